@@ -1,0 +1,277 @@
+// neighbor_list.hpp — Verlet neighbor lists with a skin, built from a cell list.
+//
+// A list holds, for every particle i, the particles j with |x_i − x_j| < cutoff + skin (minimum
+// image on periodic axes). Full lists hold every such j; half lists hold only j > i, so each pair
+// once. Pairs within one body (Particles::body ≥ 0 and equal) can be excluded: the vertices of a
+// deformable polygon interact through its own bonded terms, never as contacts.
+//
+// `update()` rebuilds only when some particle has moved more than skin/2 since the last build
+// (then no pair can have crossed from beyond cutoff + skin to within cutoff), or when the particle
+// count or the box changed. Storage is an (n × capacity) array; the capacity grows automatically
+// when a build finds more neighbors than fit, so nothing has a fixed limit.
+//
+// The order of j in each row follows the cell order and, within a cell, particle index: the list —
+// and every force summed over it — is identical for any thread count.
+#pragma once
+
+#include "box.hpp"
+#include "cell_list.hpp"
+#include "kokkos_compat.hpp"
+#include "particles.hpp"
+#include "reductions.hpp"
+
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+namespace mesoflow {
+
+enum class NeighborListKind { full, half };
+enum class BodyExclusion { none, same_body };
+
+// What a kernel needs from a neighbor list, copied by value into lambdas.
+template <class ExecSpace>
+struct NeighborData {
+  Kokkos::View<int*, ExecSpace> count;
+  Kokkos::View<int**, ExecSpace> index;
+  KOKKOS_INLINE_FUNCTION int num_neighbors(int i) const { return count(i); }
+  KOKKOS_INLINE_FUNCTION int neighbor(int i, int k) const { return index(i, k); }
+};
+
+template <int D, class Real, class ExecSpace>
+class NeighborList {
+ public:
+  using vector_view = typename Particles<D, Real, ExecSpace>::vector_view;
+  using int_view = Kokkos::View<int*, ExecSpace>;
+
+  // `cells_per_reach`: cells are (cutoff + skin)/cells_per_reach wide. 2 (LAMMPS' default bin
+  // size) halves the candidates searched compared with 1 at the price of more, smaller cells.
+  NeighborList(Real cutoff, Real skin, NeighborListKind kind = NeighborListKind::full,
+               BodyExclusion exclusion = BodyExclusion::none, int cells_per_reach = 2)
+      : cutoff_(cutoff), skin_(skin), kind_(kind), exclusion_(exclusion), cells_per_reach_(cells_per_reach) {
+    if (cells_per_reach < 1 || cells_per_reach > 4)
+      throw std::invalid_argument("neighbor list: cells_per_reach must be in [1, 4], got " +
+                                  std::to_string(cells_per_reach));
+    if (!(cutoff > Real(0)))
+      throw std::invalid_argument("neighbor list: cutoff must be > 0, got " + std::to_string(cutoff));
+    if (!(skin >= Real(0)))
+      throw std::invalid_argument("neighbor list: skin must be >= 0, got " + std::to_string(skin));
+  }
+
+  // Rebuilds if needed (see file comment); returns whether it did.
+  bool update(const Particles<D, Real, ExecSpace>& p, const Box<D, Real>& box) {
+    if (!needs_rebuild(p.x, box)) return false;
+    build(p, box);
+    return true;
+  }
+
+  bool needs_rebuild(const vector_view& x, const Box<D, Real>& box) const {
+    if (num_builds_ == 0 || x.extent(0) != x_ref_.extent(0) || !same_box(box)) return true;
+    return max_displacement<D, Real, ExecSpace>(x, x_ref_, box) > Real(0.5) * skin_;
+  }
+
+  // Unconditional rebuild from the current positions.
+  void build(const Particles<D, Real, ExecSpace>& p, const Box<D, Real>& box) {
+    const Real reach = cutoff_ + skin_;
+    for (int d = 0; d < D; ++d)
+      if (box.periodic[d] && box.length[d] < Real(2) * reach)
+        throw std::invalid_argument("neighbor list: periodic box length " + std::to_string(box.length[d]) +
+                                    " along axis " + std::to_string(d) +
+                                    " must be at least 2 × (cutoff + skin) = " + std::to_string(2 * reach));
+    const int n = int(p.size());
+    cells_.build(p.x, box, reach / Real(cells_per_reach_));
+    if (int(count_.extent(0)) != n) {
+      count_ = int_view("mesoflow::neighbor_list::count", n);
+      x_ref_ = vector_view(Kokkos::ViewAllocateWithoutInitializing("mesoflow::neighbor_list::x_ref"), n);
+      if (capacity_ == 0) capacity_ = initial_capacity(box, n);
+      index_ = Kokkos::View<int**, ExecSpace>(
+          Kokkos::ViewAllocateWithoutInitializing("mesoflow::neighbor_list::index"), n, capacity_ + 1);
+    }
+    int needed = fill(p.body, box);
+    if (needed > capacity_) {
+      capacity_ = needed + needed / 8 + 1;
+      index_ = Kokkos::View<int**, ExecSpace>(
+          Kokkos::ViewAllocateWithoutInitializing("mesoflow::neighbor_list::index"), n, capacity_ + 1);
+      needed = fill(p.body, box);
+    }
+    max_neighbors_ = needed;
+    auto x = p.x;
+    auto x_ref = x_ref_;
+    Kokkos::parallel_for(
+        "mesoflow::neighbor_list::remember_positions", Kokkos::RangePolicy<ExecSpace>(0, n),
+        KOKKOS_LAMBDA(int i) {
+          for (int d = 0; d < D; ++d) x_ref(i, d) = x(i, d);
+        });
+    box_ = box;
+    ++num_builds_;
+  }
+
+  NeighborData<ExecSpace> data() const { return {count_, index_}; }
+  NeighborListKind kind() const { return kind_; }
+  Real cutoff() const { return cutoff_; }
+  Real skin() const { return skin_; }
+  int num_builds() const { return num_builds_; }
+  int max_neighbors() const { return max_neighbors_; }
+  int capacity() const { return capacity_; }
+  const CellList<D, Real, ExecSpace>& cells() const { return cells_; }
+  // Positions at the last build (the reference for the skin criterion; saved in checkpoints so a
+  // restart rebuilds exactly the same list).
+  vector_view reference_positions() const { return x_ref_; }
+
+  // Total number of stored (i, j) entries.
+  long long num_entries() const {
+    auto count = count_;
+    long long total = 0;
+    Kokkos::parallel_reduce(
+        "mesoflow::neighbor_list::num_entries", Kokkos::RangePolicy<ExecSpace>(0, count.extent(0)),
+        KOKKOS_LAMBDA(int i, long long& acc) { acc += count(i); }, total);
+    return total;
+  }
+
+ private:
+  bool same_box(const Box<D, Real>& b) const {
+    for (int d = 0; d < D; ++d)
+      if (b.lo[d] != box_.lo[d] || b.length[d] != box_.length[d] || b.periodic[d] != box_.periodic[d])
+        return false;
+    return true;
+  }
+
+  // Expected neighbors within the reach at the mean density, with headroom for fluctuations.
+  int initial_capacity(const Box<D, Real>& box, int n) const {
+    const double reach = double(cutoff_ + skin_);
+    const double ball = D == 2 ? 3.14159265358979 * reach * reach : 4.18879020478639 * reach * reach * reach;
+    const double expected = n * ball / double(box.volume());
+    const double c = 1.5 * expected + 16.0;
+    return int(c < n ? c : n);
+  }
+
+  int fill(const int_view& body, const Box<D, Real>& box) {
+    const bool half = kind_ == NeighborListKind::half;
+    if (exclusion_ == BodyExclusion::same_body) {
+      gather_body(body);
+      return half ? fill<true, true>(box) : fill<false, true>(box);
+    }
+    return half ? fill<true, false>(box) : fill<false, false>(box);
+  }
+
+  // Body ids in binned order, so the exclusion test streams like the positions do.
+  void gather_body(const int_view& body) {
+    const int n = cells_.num_particles();
+    if (int(body_binned_.extent(0)) != n)
+      body_binned_ = int_view(Kokkos::ViewAllocateWithoutInitializing("mesoflow::neighbor_list::body"), n);
+    const auto slots = cells_.cell_particles();
+    const auto binned = body_binned_;
+    Kokkos::parallel_for(
+        "mesoflow::neighbor_list::gather_body", Kokkos::RangePolicy<ExecSpace>(0, n),
+        KOKKOS_LAMBDA(int s) { binned(s) = body(slots(s)); });
+  }
+
+  // Writes the rows (up to the capacity) and returns the longest row found. The inner loop is
+  // branch-free: every candidate is written at the row's next free column and kept only if it
+  // qualifies (column `capacity` is scratch for rows that overflow).
+  template <bool Half, bool ExcludeBody>
+  int fill(const Box<D, Real>& box) {
+    const auto grid = cells_.grid();
+    const auto offset = cells_.cell_offset();
+    const auto slots = cells_.cell_particles();
+    const auto xb = cells_.binned_x();
+    const auto body = body_binned_;
+    const auto count = count_;
+    const auto index = index_;
+    const int capacity = capacity_;
+    const int reach_cells = cells_per_reach_;
+    const Real reach2 = (cutoff_ + skin_) * (cutoff_ + skin_);
+    // A cell is skipped only when clearly out of reach, so round-off in the gap can never drop
+    // a pair that the exact distance test would keep.
+    const Real skip_gap2 = reach2 * (Real(1) + Real(64) * std::numeric_limits<Real>::epsilon());
+    const int n = cells_.num_particles();
+    int needed = 0;
+    Kokkos::parallel_reduce(
+        "mesoflow::neighbor_list::fill", Kokkos::RangePolicy<ExecSpace>(0, n),
+        KOKKOS_LAMBDA(int s, int& longest) {
+          const int i = slots(s);
+          const int body_i = ExcludeBody ? body(s) : -1;
+          Real xi[D];
+          int ci[D];
+          Real to_lower[D], to_upper[D], width[D];  // distances from x_i to its own cell's faces
+          bool in_own_cell = true;  // false for a particle clamped in from beyond a wall
+          for (int d = 0; d < D; ++d) {
+            xi[d] = xb(s, d);
+            ci[d] = grid.coordinate(xi[d], d);
+            width[d] = Real(1) / grid.inv_width[d];
+            to_lower[d] = xi[d] - (grid.lo[d] + ci[d] * width[d]);
+            to_upper[d] = width[d] - to_lower[d];
+            in_own_cell = in_own_cell && to_lower[d] >= Real(0) && to_upper[d] >= Real(0);
+          }
+          int found = 0;
+          // Stencil: every cell within `reach` cells per axis, visited in a fixed order.
+          int steps[D];
+          for (int d = 0; d < D; ++d) steps[d] = -reach_cells;
+          for (;;) {
+            int cj[D];
+            Real shifted[D];  // x_i moved by the periodic image shift of the neighbor cell
+            Real gap2 = 0;    // squared distance from x_i to the neighbor cell
+            bool inside = true;
+            for (int d = 0; d < D; ++d) {
+              const int step = steps[d];
+              cj[d] = ci[d] + step;
+              shifted[d] = xi[d];
+              if (step < 0) {
+                const Real g = to_lower[d] + Real(-step - 1) * width[d];
+                gap2 += g * g;
+              } else if (step > 0) {
+                const Real g = to_upper[d] + Real(step - 1) * width[d];
+                gap2 += g * g;
+              }
+              if (cj[d] < 0 || cj[d] >= grid.n[d]) {
+                if (!box.periodic[d]) inside = false;
+                else if (cj[d] < 0) { cj[d] += grid.n[d]; shifted[d] += box.length[d]; }
+                else { cj[d] -= grid.n[d]; shifted[d] -= box.length[d]; }
+              }
+            }
+            // Cells entirely out of reach are skipped: with two cells per reach this leaves
+            // about 84 of the 125 cells and 63 candidates for 25 neighbors in 3D.
+            if (inside && (gap2 < skip_gap2 || !in_own_cell)) {
+              const int k = grid.index(cj);
+              const int end = offset(k + 1);
+              for (int t = offset(k); t < end; ++t) {
+                Real r2 = 0;
+                for (int d = 0; d < D; ++d) {
+                  const Real dx = shifted[d] - xb(t, d);
+                  r2 += dx * dx;
+                }
+                const int j = slots(t);
+                bool keep = (r2 < reach2) & (t != s);
+                if (Half) keep &= j > i;
+                if (ExcludeBody) keep &= (body_i < 0) | (body(t) != body_i);
+                index(i, found < capacity ? found : capacity) = j;
+                found += keep;
+              }
+            }
+            int d = 0;  // next stencil cell, axis 0 fastest
+            while (d < D && ++steps[d] > reach_cells) steps[d++] = -reach_cells;
+            if (d == D) break;
+          }
+          count(i) = found;
+          if (found > longest) longest = found;
+        },
+        Kokkos::Max<int>(needed));
+    return needed;
+  }
+
+  Real cutoff_, skin_;
+  NeighborListKind kind_;
+  BodyExclusion exclusion_;
+  int cells_per_reach_;
+  CellList<D, Real, ExecSpace> cells_;
+  int_view count_;
+  Kokkos::View<int**, ExecSpace> index_;  // n × (capacity + 1): the last column is scratch
+  int_view body_binned_;
+  vector_view x_ref_;
+  Box<D, Real> box_{};
+  int capacity_ = 0;
+  int max_neighbors_ = 0;
+  int num_builds_ = 0;
+};
+
+}  // namespace mesoflow

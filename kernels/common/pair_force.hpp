@@ -1,0 +1,118 @@
+// pair_force.hpp — the one generic neighbor loop for central pair potentials.
+//
+// Physics lives in a small evaluator (see lennard_jones.hpp); this loop owns iteration, image
+// convention, scatter and the energy reduction (HOOMD's EvaluatorPair + PotentialPair split).
+// An evaluator provides
+//     KOKKOS_INLINE_FUNCTION bool evaluate(Real r2, int type_i, int type_j,
+//                                          Real& force_over_r, Real& energy) const;
+// returning false outside its cutoff, with F_i = force_over_r · (x_i − x_j) and the pair energy.
+//
+// Full list: each particle sums its own force — deterministic, no atomics. Half list: each pair
+// once, the reaction scattered through a ScatterView (thread-duplicated on OpenMP, atomic on GPUs);
+// results are then reproducible at a fixed thread count only.
+#pragma once
+
+#include "box.hpp"
+#include "kokkos_compat.hpp"
+#include "neighbor_list.hpp"
+#include "particles.hpp"
+
+#include <Kokkos_ScatterView.hpp>
+
+namespace mesoflow {
+
+template <int D, class Real, class ExecSpace>
+class PairForce {
+ public:
+  using vector_view = typename Particles<D, Real, ExecSpace>::vector_view;
+
+  // Adds the pair forces to p.f and returns the total pair energy.
+  template <class Evaluator>
+  double accumulate(const Evaluator& eval, const Particles<D, Real, ExecSpace>& p,
+                    const NeighborList<D, Real, ExecSpace>& list, const Box<D, Real>& box) {
+    return list.kind() == NeighborListKind::full ? accumulate_full(eval, p, list, box)
+                                                 : accumulate_half(eval, p, list, box);
+  }
+
+ private:
+  template <class Evaluator>
+  double accumulate_full(const Evaluator& eval, const Particles<D, Real, ExecSpace>& p,
+                         const NeighborList<D, Real, ExecSpace>& list, const Box<D, Real>& box) {
+    const auto x = p.x;
+    const auto f = p.f;
+    const auto type = p.type;
+    const auto nbr = list.data();
+    double energy = 0;
+    Kokkos::parallel_reduce(
+        "mesoflow::pair_force::full", Kokkos::RangePolicy<ExecSpace>(0, p.size()),
+        KOKKOS_LAMBDA(int i, double& e_acc) {
+          const Vec<D, Real> xi = Vec<D, Real>::load(x, i);
+          const int ti = type(i);
+          Vec<D, Real> fi = Vec<D, Real>::zero();
+          double ei = 0;
+          const int nn = nbr.num_neighbors(i);
+          for (int k = 0; k < nn; ++k) {
+            const int j = nbr.neighbor(i, k);
+            Vec<D, Real> dr = xi - Vec<D, Real>::load(x, j);
+            box.minimum_image(dr);
+            Real force_over_r, e;
+            if (eval.evaluate(norm2(dr), ti, type(j), force_over_r, e)) {
+              fi += force_over_r * dr;
+              ei += e;
+            }
+          }
+          for (int d = 0; d < D; ++d) f(i, d) += fi[d];
+          e_acc += 0.5 * ei;
+        },
+        energy);
+    return energy;
+  }
+
+  template <class Evaluator>
+  double accumulate_half(const Evaluator& eval, const Particles<D, Real, ExecSpace>& p,
+                         const NeighborList<D, Real, ExecSpace>& list, const Box<D, Real>& box) {
+    // Created once per force array. On backends where the ScatterView aliases p.f (Serial, GPUs)
+    // reset_except leaves the forces other terms already added; duplicates are zeroed.
+    if (scatter_target_ != p.f.data()) {
+      scatter_ = Kokkos::Experimental::create_scatter_view(p.f);
+      scatter_target_ = p.f.data();
+    }
+    scatter_.reset_except(p.f);
+    auto scatter = scatter_;
+    const auto x = p.x;
+    const auto type = p.type;
+    const auto nbr = list.data();
+    double energy = 0;
+    Kokkos::parallel_reduce(
+        "mesoflow::pair_force::half", Kokkos::RangePolicy<ExecSpace>(0, p.size()),
+        KOKKOS_LAMBDA(int i, double& e_acc) {
+          auto access = scatter.access();
+          const Vec<D, Real> xi = Vec<D, Real>::load(x, i);
+          const int ti = type(i);
+          Vec<D, Real> fi = Vec<D, Real>::zero();
+          const int nn = nbr.num_neighbors(i);
+          for (int k = 0; k < nn; ++k) {
+            const int j = nbr.neighbor(i, k);
+            Vec<D, Real> dr = xi - Vec<D, Real>::load(x, j);
+            box.minimum_image(dr);
+            Real force_over_r, e;
+            if (eval.evaluate(norm2(dr), ti, type(j), force_over_r, e)) {
+              const Vec<D, Real> fij = force_over_r * dr;
+              fi += fij;
+              for (int d = 0; d < D; ++d) access(j, d) -= fij[d];
+              e_acc += e;
+            }
+          }
+          for (int d = 0; d < D; ++d) access(i, d) += fi[d];
+        },
+        energy);
+    auto f = p.f;
+    Kokkos::Experimental::contribute(f, scatter_);
+    return energy;
+  }
+
+  Kokkos::Experimental::ScatterView<Real* [D], Kokkos::LayoutLeft, ExecSpace> scatter_;
+  const Real* scatter_target_ = nullptr;
+};
+
+}  // namespace mesoflow
