@@ -11,7 +11,10 @@
 #include "kernels/common/pair_force.hpp"
 
 #include <cmath>
+#include <algorithm>
+#include <array>
 #include <random>
+#include <vector>
 
 namespace mesoflow {
 namespace {
@@ -28,14 +31,26 @@ struct Scene {
 };
 
 template <int D, class Real>
-Scene<D, Real> random_scene(int n, unsigned seed) {
+Scene<D, Real> random_scene(int n, unsigned seed, bool sorted = false) {
   const double L = std::pow(double(n), 1.0 / D);
   Scene<D, Real> s{Particles<D, Real, Exec>(n), Box<D, Real>::cube(Real(L), true)};
   auto x = Kokkos::create_mirror_view(s.p.x);
   std::mt19937 gen(seed);
   std::uniform_real_distribution<double> u(0.0, L);
+  std::vector<std::array<double, D>> pos(n);
+  for (auto& r : pos)
+    for (int d = 0; d < D; ++d) r[d] = u(gen);
+  if (sorted) {
+    const double w = 1.0;  // sort key: cells of unit width, axis 0 fastest
+    auto key = [&](const std::array<double, D>& r) {
+      long long k = 0;
+      for (int d = D - 1; d >= 0; --d) k = k * 1000 + (long long)(r[d] / w);
+      return k;
+    };
+    std::sort(pos.begin(), pos.end(), [&](const auto& a, const auto& b) { return key(a) < key(b); });
+  }
   for (int i = 0; i < n; ++i)
-    for (int d = 0; d < D; ++d) x(i, d) = Real(u(gen));
+    for (int d = 0; d < D; ++d) x(i, d) = Real(pos[i][d]);
   Kokkos::deep_copy(s.p.x, x);
   return s;
 }
@@ -71,9 +86,10 @@ void BM_CellBinning(benchmark::State& state) {
 template <int D, class Real, NeighborListKind Kind>
 void BM_NeighborListBuild(benchmark::State& state) {
   const int n = int(state.range(0));
-  auto s = random_scene<D, Real>(n, 2);
+  auto s = random_scene<D, Real>(n, 2, state.range(2));
   const double reach = reach_for<D>(25.0);
-  NeighborList<D, Real, Exec> list(Real(0.9 * reach), Real(0.1 * reach), Kind);
+  const int cells_per_reach = state.range(1);
+  NeighborList<D, Real, Exec> list(Real(0.9 * reach), Real(0.1 * reach), Kind, BodyExclusion::none, cells_per_reach);
   list.build(s.p, s.box);
   timed(state, [&] { list.build(s.p, s.box); });
   state.SetItemsProcessed(state.iterations() * n);
@@ -117,10 +133,14 @@ constexpr auto half = NeighborListKind::half;
 BENCHMARK(BM_ReferenceTriad)->Arg(1 << 20)->UseManualTime()->Unit(benchmark::kMillisecond);
 BENCHMARK_TEMPLATE(BM_CellBinning, 3, double)->Arg(1000000)->UseManualTime()->Unit(benchmark::kMillisecond);
 BENCHMARK_TEMPLATE(BM_CellBinning, 2, double)->Arg(1000000)->UseManualTime()->Unit(benchmark::kMillisecond);
-BENCHMARK_TEMPLATE(BM_NeighborListBuild, 3, double, full)->Arg(100000)->Arg(1000000)->UseManualTime()->Unit(benchmark::kMillisecond);
-BENCHMARK_TEMPLATE(BM_NeighborListBuild, 3, double, half)->Arg(1000000)->UseManualTime()->Unit(benchmark::kMillisecond);
-BENCHMARK_TEMPLATE(BM_NeighborListBuild, 3, float, full)->Arg(1000000)->UseManualTime()->Unit(benchmark::kMillisecond);
-BENCHMARK_TEMPLATE(BM_NeighborListBuild, 2, double, full)->Arg(1000000)->UseManualTime()->Unit(benchmark::kMillisecond);
+// Arguments: particles; cells per reach (1: 27 cells, 2: 125 cells of half the width);
+// particle order (0: random, 1: sorted by cell, as after a spatial sort).
+BENCHMARK_TEMPLATE(BM_NeighborListBuild, 3, double, full)
+    ->Args({100000, 1, 0})->Args({1000000, 1, 0})->Args({1000000, 2, 0})->Args({1000000, 1, 1})
+    ->UseManualTime()->Unit(benchmark::kMillisecond);
+BENCHMARK_TEMPLATE(BM_NeighborListBuild, 3, double, half)->Args({1000000, 1, 0})->UseManualTime()->Unit(benchmark::kMillisecond);
+BENCHMARK_TEMPLATE(BM_NeighborListBuild, 3, float, full)->Args({1000000, 1, 0})->UseManualTime()->Unit(benchmark::kMillisecond);
+BENCHMARK_TEMPLATE(BM_NeighborListBuild, 2, double, full)->Args({1000000, 1, 0})->UseManualTime()->Unit(benchmark::kMillisecond);
 BENCHMARK_TEMPLATE(BM_PairForceLJ, 3, double, full)->Arg(1000000)->UseManualTime()->Unit(benchmark::kMillisecond);
 BENCHMARK_TEMPLATE(BM_PairForceLJ, 3, double, half)->Arg(1000000)->UseManualTime()->Unit(benchmark::kMillisecond);
 BENCHMARK_TEMPLATE(BM_PairForceLJ, 3, float, full)->Arg(1000000)->UseManualTime()->Unit(benchmark::kMillisecond);

@@ -23,6 +23,7 @@
 
 #include <array>
 #include <cmath>
+#include <cstddef>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -55,6 +56,8 @@ KOKKOS_INLINE_FUNCTION SurfacePoint<D, Real> no_surface(const Vec<D, Real>& x) {
 }
 
 namespace geometry_detail {
+
+constexpr double pi = 3.14159265358979323846;
 
 template <int D, class Real>
 KOKKOS_INLINE_FUNCTION Real length(const Vec<D, Real>& v) {
@@ -90,8 +93,7 @@ KOKKOS_INLINE_FUNCTION Vec<3, Real> cross(const Vec<3, Real>& a, const Vec<3, Re
   return Vec<3, Real>{{a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]}};
 }
 
-// A unit vector perpendicular to the unit vector k (k crossed with the coordinate axis least aligned with
-// it).
+// A unit vector perpendicular to the unit vector k: k × (the coordinate axis least aligned with k).
 template <class Real>
 KOKKOS_INLINE_FUNCTION Vec<3, Real> any_perpendicular(const Vec<3, Real>& k) {
   int axis = 0;
@@ -263,11 +265,12 @@ struct ShapeKind {
 // Kokkos::View<Shape*>) queried without virtual dispatch. Build it with the named constructors.
 //
 // Layout of p (vectors take D entries):
-//   half_space  origin, unit normal                             (2D and 3D)
-//   segment     a, b, unit normal                               (2D)
-//   wedge       apex, unit edge 0, unit edge 1, normal 0, normal 1 (2D)
-//   ball        center, radius                                  (disk in 2D, sphere in 3D)
-//   cylinder    origin, unit axis, radius                       (3D)
+//   half_space  origin, unit normal                                 (2D and 3D)
+//   segment     a, b, unit normal                                   (2D)
+//   wedge       apex, unit edge 0, unit edge 1, normal 0, normal 1  (2D)
+//   ball        center, radius                                      (disk in 2D, sphere in 3D)
+//   cylinder    origin, unit axis, radius                           (3D)
+// A kind that does not exist in D dimensions (a segment in 3D) is treated as no surface.
 // `inverted` swaps solid and fluid for every kind (d → −d, n → −n). A default Shape (kind none) is no
 // surface at all: its query is no_surface(x).
 template <int D, class Real>
@@ -355,23 +358,23 @@ struct Shape {
         s = Ball<D, Real>{vec_at(0), p[D], false}.query(x);
         break;
       case ShapeKind::segment:
-        if constexpr (D == 2) {
+        if constexpr (D == 2)
           s = Segment<Real>{vec_at(0), vec_at(2), vec_at(4)}.query(x);
-          break;
-        }
-        return no_surface(x);
+        else
+          return no_surface(x);
+        break;
       case ShapeKind::wedge:
-        if constexpr (D == 2) {
+        if constexpr (D == 2)
           s = Wedge<Real>{vec_at(0), {vec_at(2), vec_at(4)}, {vec_at(6), vec_at(8)}, false}.query(x);
-          break;
-        }
-        return no_surface(x);
+        else
+          return no_surface(x);
+        break;
       case ShapeKind::cylinder:
-        if constexpr (D == 3) {
+        if constexpr (D == 3)
           s = Cylinder<Real>{vec_at(0), vec_at(3), p[6], false}.query(x);
-          break;
-        }
-        return no_surface(x);
+        else
+          return no_surface(x);
+        break;
       default:
         return no_surface(x);
     }
@@ -436,10 +439,10 @@ KOKKOS_INLINE_FUNCTION SurfacePoint<D, Real> nearest_surface(const Shape<D, Real
 // Returns {left wedge, right wedge}; both extend to infinity.
 template <class Real>
 std::array<Shape<2, Real>, 2> orifice_wedges(Real w, Real center_x, Real y_orifice,
-                                             Real wall_angle = Real(0.785398163397448309615660845819875721)) {
+                                             Real wall_angle = Real(geometry_detail::pi / 4)) {
   if (!(w > Real(0)))
     throw std::invalid_argument("orifice_wedges: width must be > 0, got " + std::to_string(w));
-  if (!(wall_angle > Real(0) && wall_angle < Real(1.570796326794896619231321691639751442)))
+  if (!(wall_angle > Real(0) && wall_angle < Real(geometry_detail::pi / 2)))
     throw std::invalid_argument("orifice_wedges: wall angle must lie strictly between 0 and pi/2, got " +
                                 std::to_string(wall_angle));
   const Real s = std::sin(wall_angle);

@@ -39,7 +39,8 @@ using Kokkos::Experimental::atan2;
 #endif
 }  // namespace kmath
 
-// Kokkos initialisation with an explicit thread count (-1: Kokkos' default).
+// Kokkos initialisation with an explicit thread count (≤ 0: Kokkos' default, i.e.
+// OMP_NUM_THREADS or all cores).
 inline void initialize_kokkos(int num_threads) {
 #if KOKKOS_VERSION >= 30700
   Kokkos::InitializationSettings settings;
@@ -48,11 +49,20 @@ inline void initialize_kokkos(int num_threads) {
   Kokkos::initialize(settings);
 #else
   Kokkos::InitArguments args;
-  args.num_threads = num_threads;
+  args.num_threads = num_threads > 0 ? num_threads : -1;
   args.disable_warnings = true;
   Kokkos::initialize(args);
 #endif
 }
+
+// Kokkos initialised for the lifetime of a scope (drivers, benchmarks).
+class KokkosScope {
+ public:
+  explicit KokkosScope(int num_threads) { initialize_kokkos(num_threads); }
+  ~KokkosScope() { Kokkos::finalize(); }
+  KokkosScope(const KokkosScope&) = delete;
+  KokkosScope& operator=(const KokkosScope&) = delete;
+};
 
 // Number of threads (host) or concurrent work items (device) of an execution space.
 // (A static member in 3.x, a member function in 4.x: calling it on an instance works for both.)

@@ -29,27 +29,34 @@ namespace mesoflow {
 enum class NeighborListKind { full, half };
 enum class BodyExclusion { none, same_body };
 
-// What a kernel needs from a neighbor list, copied by value into lambdas.
+// What a kernel needs from a neighbor list, copied by value into lambdas. Rows are stored in
+// cell order (row r holds the neighbors of particle particle(r)), so a build writes them
+// sequentially whatever the order of the particle arrays; loop over rows, not particles.
 template <class ExecSpace>
 struct NeighborData {
+  Kokkos::View<int*, ExecSpace> row_particle;
   Kokkos::View<int*, ExecSpace> count;
   Kokkos::View<int**, ExecSpace> index;
-  KOKKOS_INLINE_FUNCTION int num_neighbors(int i) const { return count(i); }
-  KOKKOS_INLINE_FUNCTION int neighbor(int i, int k) const { return index(i, k); }
+  KOKKOS_INLINE_FUNCTION int particle(int row) const { return row_particle(row); }
+  KOKKOS_INLINE_FUNCTION int num_neighbors(int row) const { return count(row); }
+  KOKKOS_INLINE_FUNCTION int neighbor(int row, int k) const { return index(row, k); }
+  int num_rows() const { return int(count.extent(0)); }
 };
 
 template <int D, class Real, class ExecSpace>
 class NeighborList {
  public:
+  static constexpr int max_cells_per_reach = 4;
   using vector_view = typename Particles<D, Real, ExecSpace>::vector_view;
   using int_view = Kokkos::View<int*, ExecSpace>;
 
-  // `cells_per_reach`: cells are (cutoff + skin)/cells_per_reach wide. 2 (LAMMPS' default bin
-  // size) halves the candidates searched compared with 1 at the price of more, smaller cells.
+  // `cells_per_reach`: cells are (cutoff + skin)/cells_per_reach wide. 2 (LAMMPS' bin size)
+  // halves the candidate pairs tested but visits 25 rows of cells per particle instead of 9; on
+  // the CI machine 1 builds faster (benchmarks/bench_common.cpp, BM_NeighborListBuild).
   NeighborList(Real cutoff, Real skin, NeighborListKind kind = NeighborListKind::full,
-               BodyExclusion exclusion = BodyExclusion::none, int cells_per_reach = 2)
+               BodyExclusion exclusion = BodyExclusion::none, int cells_per_reach = 1)
       : cutoff_(cutoff), skin_(skin), kind_(kind), exclusion_(exclusion), cells_per_reach_(cells_per_reach) {
-    if (cells_per_reach < 1 || cells_per_reach > 4)
+    if (cells_per_reach < 1 || cells_per_reach > max_cells_per_reach)
       throw std::invalid_argument("neighbor list: cells_per_reach must be in [1, 4], got " +
                                   std::to_string(cells_per_reach));
     if (!(cutoff > Real(0)))
@@ -106,7 +113,7 @@ class NeighborList {
     ++num_builds_;
   }
 
-  NeighborData<ExecSpace> data() const { return {count_, index_}; }
+  NeighborData<ExecSpace> data() const { return {cells_.cell_particles(), count_, index_}; }
   NeighborListKind kind() const { return kind_; }
   Real cutoff() const { return cutoff_; }
   Real skin() const { return skin_; }
@@ -179,7 +186,7 @@ class NeighborList {
     const auto count = count_;
     const auto index = index_;
     const int capacity = capacity_;
-    const int reach_cells = cells_per_reach_;
+    const int m = cells_per_reach_;
     const Real reach2 = (cutoff_ + skin_) * (cutoff_ + skin_);
     // A cell is skipped only when clearly out of reach, so round-off in the gap can never drop
     // a pair that the exact distance test would keep.
@@ -191,68 +198,84 @@ class NeighborList {
         KOKKOS_LAMBDA(int s, int& longest) {
           const int i = slots(s);
           const int body_i = ExcludeBody ? body(s) : -1;
-          Real xi[D];
+          Real xi[D], to_lower[D], to_upper[D], width[D];
           int ci[D];
-          Real to_lower[D], to_upper[D], width[D];  // distances from x_i to its own cell's faces
           bool in_own_cell = true;  // false for a particle clamped in from beyond a wall
           for (int d = 0; d < D; ++d) {
             xi[d] = xb(s, d);
             ci[d] = grid.coordinate(xi[d], d);
             width[d] = Real(1) / grid.inv_width[d];
-            to_lower[d] = xi[d] - (grid.lo[d] + ci[d] * width[d]);
+            to_lower[d] = xi[d] - (grid.lo[d] + Real(ci[d]) * width[d]);
             to_upper[d] = width[d] - to_lower[d];
             in_own_cell = in_own_cell && to_lower[d] >= Real(0) && to_upper[d] >= Real(0);
           }
+          // Squared distance along axis d from x_i to the cells `step` away (0 when unknown).
+          auto axis_gap2 = [&](int d, int step) {
+            if (step == 0 || !in_own_cell) return Real(0);
+            const Real g = (step < 0 ? to_lower[d] : to_upper[d]) + Real((step < 0 ? -step : step) - 1) * width[d];
+            return g * g;
+          };
           int found = 0;
-          // Stencil: every cell within `reach` cells per axis, visited in a fixed order.
-          int steps[D];
-          for (int d = 0; d < D; ++d) steps[d] = -reach_cells;
+          // Rows of cells along axis 0 are contiguous in the CSR order, so each row within reach
+          // is one run of slots (two where it wraps around a periodic boundary).
+          int row_step[D];
+          for (int d = 1; d < D; ++d) row_step[d] = -m;
           for (;;) {
-            int cj[D];
-            Real shifted[D];  // x_i moved by the periodic image shift of the neighbor cell
-            Real gap2 = 0;    // squared distance from x_i to the neighbor cell
+            Real row_gap2 = 0;
+            int row_cell = 0;
             bool inside = true;
-            for (int d = 0; d < D; ++d) {
-              const int step = steps[d];
-              cj[d] = ci[d] + step;
+            Real shifted[D];
+            shifted[0] = xi[0];
+            for (int d = D - 1; d >= 1; --d) {
+              row_gap2 += axis_gap2(d, row_step[d]);
+              int c = ci[d] + row_step[d];
               shifted[d] = xi[d];
-              if (step < 0) {
-                const Real g = to_lower[d] + Real(-step - 1) * width[d];
-                gap2 += g * g;
-              } else if (step > 0) {
-                const Real g = to_upper[d] + Real(step - 1) * width[d];
-                gap2 += g * g;
-              }
-              if (cj[d] < 0 || cj[d] >= grid.n[d]) {
+              if (c < 0 || c >= grid.n[d]) {
                 if (!box.periodic[d]) inside = false;
-                else if (cj[d] < 0) { cj[d] += grid.n[d]; shifted[d] += box.length[d]; }
-                else { cj[d] -= grid.n[d]; shifted[d] -= box.length[d]; }
+                else if (c < 0) { c += grid.n[d]; shifted[d] += box.length[d]; }
+                else { c -= grid.n[d]; shifted[d] -= box.length[d]; }
               }
+              row_cell = row_cell * grid.n[d] + c;
             }
-            // Cells entirely out of reach are skipped: with two cells per reach this leaves
-            // about 84 of the 125 cells and 63 candidates for 25 neighbors in 3D.
-            if (inside && (gap2 < skip_gap2 || !in_own_cell)) {
-              const int k = grid.index(cj);
-              const int end = offset(k + 1);
-              for (int t = offset(k); t < end; ++t) {
-                Real r2 = 0;
-                for (int d = 0; d < D; ++d) {
-                  const Real dx = shifted[d] - xb(t, d);
-                  r2 += dx * dx;
+            if (inside && row_gap2 < skip_gap2) {
+              int first = -m, last = m;
+              while (first < 0 && row_gap2 + axis_gap2(0, first) >= skip_gap2) ++first;
+              while (last > 0 && row_gap2 + axis_gap2(0, last) >= skip_gap2) --last;
+              int c_begin = ci[0] + first, c_end = ci[0] + last;  // inclusive, unwrapped
+              if (!box.periodic[0]) {
+                c_begin = c_begin < 0 ? 0 : c_begin;
+                c_end = c_end >= grid.n[0] ? grid.n[0] - 1 : c_end;
+              }
+              for (int c = c_begin; c <= c_end;) {
+                int wrapped = c;
+                Real shift = 0;
+                if (c < 0) { wrapped += grid.n[0]; shift = box.length[0]; }
+                else if (c >= grid.n[0]) { wrapped -= grid.n[0]; shift = -box.length[0]; }
+                const int run_cells = (c_end - c < grid.n[0] - 1 - wrapped ? c_end - c : grid.n[0] - 1 - wrapped) + 1;
+                const int k = row_cell * grid.n[0] + wrapped;
+                const int t_end = offset(k + run_cells);
+                shifted[0] = xi[0] + shift;
+                for (int t = offset(k); t < t_end; ++t) {
+                  Real r2 = 0;
+                  for (int d = 0; d < D; ++d) {
+                    const Real dx = shifted[d] - xb(t, d);
+                    r2 += dx * dx;
+                  }
+                  const int j = slots(t);
+                  bool keep = (r2 < reach2) & (t != s);
+                  if (Half) keep &= j > i;
+                  if (ExcludeBody) keep &= (body_i < 0) | (body(t) != body_i);
+                  index(s, found < capacity ? found : capacity) = j;
+                  found += keep;
                 }
-                const int j = slots(t);
-                bool keep = (r2 < reach2) & (t != s);
-                if (Half) keep &= j > i;
-                if (ExcludeBody) keep &= (body_i < 0) | (body(t) != body_i);
-                index(i, found < capacity ? found : capacity) = j;
-                found += keep;
+                c += run_cells;
               }
             }
-            int d = 0;  // next stencil cell, axis 0 fastest
-            while (d < D && ++steps[d] > reach_cells) steps[d++] = -reach_cells;
+            int d = 1;  // next row, axis 1 fastest
+            while (d < D && ++row_step[d] > m) row_step[d++] = -m;
             if (d == D) break;
           }
-          count(i) = found;
+          count(s) = found;
           if (found > longest) longest = found;
         },
         Kokkos::Max<int>(needed));

@@ -45,14 +45,15 @@ class PairForce {
     double energy = 0;
     Kokkos::parallel_reduce(
         "mesoflow::pair_force::full", Kokkos::RangePolicy<ExecSpace>(0, p.size()),
-        KOKKOS_LAMBDA(int i, double& e_acc) {
+        KOKKOS_LAMBDA(int row, double& e_acc) {
+          const int i = nbr.particle(row);
           const Vec<D, Real> xi = Vec<D, Real>::load(x, i);
           const int ti = type(i);
           Vec<D, Real> fi = Vec<D, Real>::zero();
           double ei = 0;
-          const int nn = nbr.num_neighbors(i);
+          const int nn = nbr.num_neighbors(row);
           for (int k = 0; k < nn; ++k) {
-            const int j = nbr.neighbor(i, k);
+            const int j = nbr.neighbor(row, k);
             Vec<D, Real> dr = xi - Vec<D, Real>::load(x, j);
             box.minimum_image(dr);
             Real force_over_r, e;
@@ -85,14 +86,15 @@ class PairForce {
     double energy = 0;
     Kokkos::parallel_reduce(
         "mesoflow::pair_force::half", Kokkos::RangePolicy<ExecSpace>(0, p.size()),
-        KOKKOS_LAMBDA(int i, double& e_acc) {
+        KOKKOS_LAMBDA(int row, double& e_acc) {
           auto access = scatter.access();
+          const int i = nbr.particle(row);
           const Vec<D, Real> xi = Vec<D, Real>::load(x, i);
           const int ti = type(i);
           Vec<D, Real> fi = Vec<D, Real>::zero();
-          const int nn = nbr.num_neighbors(i);
+          const int nn = nbr.num_neighbors(row);
           for (int k = 0; k < nn; ++k) {
-            const int j = nbr.neighbor(i, k);
+            const int j = nbr.neighbor(row, k);
             Vec<D, Real> dr = xi - Vec<D, Real>::load(x, j);
             box.minimum_image(dr);
             Real force_over_r, e;

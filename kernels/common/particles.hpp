@@ -43,6 +43,15 @@ struct Particles {
     Kokkos::deep_copy(mass, Real(1));
     Kokkos::deep_copy(body, -1);
   }
+
+  // f ← 0 before the force terms of a step add to it (a kernel, not a host transfer).
+  void zero_forces() const {
+    const auto f_ = f;
+    Kokkos::parallel_for(
+        "mesoflow::particles::zero_forces", Kokkos::RangePolicy<ExecSpace>(0, size()), KOKKOS_LAMBDA(int i) {
+          for (int d = 0; d < D; ++d) f_(i, d) = Real(0);
+        });
+  }
 };
 
 }  // namespace mesoflow

@@ -7,6 +7,7 @@
 #include <fstream>
 #include <optional>
 #include <stdexcept>
+#include <utility>
 
 namespace mesoflow::io {
 
@@ -22,6 +23,11 @@ constexpr hsize_t kValuesPerSeriesChunk = 1024;
 
 [[noreturn]] void usage_error(const std::string& file, const std::string& message) {
   throw std::invalid_argument("mesoflow::io::H5mdWriter('" + file + "'): " + message);
+}
+
+// A file that resume cannot continue.
+[[noreturn]] void resume_error(const std::string& file, const std::string& message) {
+  throw std::runtime_error("mesoflow::io::H5mdWriter::resume('" + file + "'): " + message);
 }
 
 // Group and element names become single HDF5 link names.
@@ -117,6 +123,152 @@ H5mdWriter::H5mdWriter(const std::string& path, const std::string& creator_name,
   write_attribute(creator.get(), "version", creator_version);
 }
 
+H5mdWriter::H5mdWriter(std::string path, File file)
+    : path_(std::move(path)), file_(std::move(file)) {}
+
+// ---------------------------------------------------------------------------------------------
+// Resuming
+
+H5mdWriter H5mdWriter::resume(const std::string& path, std::int64_t last_step) {
+  if (!std::filesystem::exists(path)) resume_error(path, "no such file");
+  File file = try_open_file(path, H5F_ACC_RDWR);
+  if (!file.valid()) raise_error("", path, "open for appending");
+  // HDF5 hands out a second identifier for a file this process has open already, where a second
+  // writer would corrupt the first one's frames.
+  if (H5Fget_obj_count(file.get(), H5F_OBJ_FILE) > 1)
+    resume_error(path, "the file is open already in this process (by another writer or reader)");
+  H5mdWriter writer(path, std::move(file));
+  writer.load_contents(last_step);
+  return writer;
+}
+
+void H5mdWriter::load_contents(std::int64_t last_step) {
+  const hid_t file = file_.get();
+  const auto not_h5md = [&] {
+    resume_error(path_, "not an H5MD 1.1 file (/h5md with version {1, 1}, author, creator)");
+  };
+  if (object_type(file, "h5md") != H5I_GROUP) not_h5md();
+  const Group h5md = open_group(file, "h5md");
+  if (H5Aexists(h5md.get(), "version") <= 0 ||
+      read_attribute_int64(h5md.get(), "version") != std::vector<std::int64_t>{1, 1} ||
+      object_type(h5md.get(), "author") != H5I_GROUP ||
+      object_type(h5md.get(), "creator") != H5I_GROUP)
+    not_h5md();
+  for (const char* top : {"particles", "observables"})
+    if (path_exists(file, top) && object_type(file, top) != H5I_GROUP)
+      resume_error(path_, std::string("/") + top + " is not a group");
+
+  if (path_exists(file, "particles"))
+    for (const std::string& group : link_names(open_group(file, "particles").get()))
+      groups_.emplace(group, load_particles_group(group, last_step));
+  if (path_exists(file, "observables")) {
+    for (const std::string& name : link_names(open_group(file, "observables").get())) {
+      const std::string where = "/observables/" + name;
+      Series series = load_series(where, last_step);
+      if (H5Tequal(series.mem_type, H5T_NATIVE_DOUBLE) <= 0 || series.frame_shape.size() > 1)
+        resume_error(path_, where + " holds " + describe_type(series.mem_type) +
+                                " frames of shape " + shape_text(series.frame_shape) +
+                                ", not float64 frames of shape () or (count)");
+      observables_.emplace(name, std::move(series));
+    }
+  }
+
+  // The file is changed only once all of it has loaded: now the frames after last_step go.
+  const auto cut = [](const Series& series) {
+    for (const Dataset* dataset : {&series.value, &series.step, &series.time})
+      set_frame_count(dataset->get(), series.steps.size());
+  };
+  for (const auto& [group, particles] : groups_)
+    for (const auto& [name, series] : particles.elements) cut(series);
+  for (const auto& [name, series] : observables_) cut(series);
+}
+
+H5mdWriter::ParticlesGroup H5mdWriter::load_particles_group(const std::string& group,
+                                                            std::int64_t last_step) {
+  const std::string where = "/particles/" + group;
+  if (object_type(file_.get(), where + "/box") != H5I_GROUP)
+    resume_error(path_, where + " has no box group");
+  const Group box = open_group(file_.get(), where + "/box");
+  const std::vector<std::int64_t> dimension = H5Aexists(box.get(), "dimension") > 0
+                                                  ? read_attribute_int64(box.get(), "dimension")
+                                                  : std::vector<std::int64_t>{};
+  if (dimension.size() != 1 || (dimension[0] != 2 && dimension[0] != 3))
+    resume_error(path_, where + "/box has no dimension attribute of 2 or 3");
+
+  ParticlesGroup particles;
+  particles.dim = static_cast<int>(dimension[0]);
+  for (const std::string& name : link_names(open_group(file_.get(), where).get())) {
+    if (name == "box") continue;
+    const std::string element = where + "/" + name;
+    Series series = load_series(element, last_step);
+    const std::vector<hsize_t>& shape = series.frame_shape;  // (N) or (N, components)
+    if (shape.empty() || shape.size() > 2 || shape[0] == 0 || (shape.size() == 2 && shape[1] < 2))
+      resume_error(path_, element + " holds frames of shape " + shape_text(shape) +
+                              ", not (N) or (N, components)");
+    if (name == "position" &&
+        shape != std::vector<hsize_t>{shape[0], static_cast<hsize_t>(particles.dim)})
+      resume_error(path_, element + " holds frames of shape " + shape_text(shape) +
+                              ", not positions in the group's " + std::to_string(particles.dim) +
+                              " dimensions");
+    if (particles.n_particles != 0 && shape[0] != particles.n_particles)
+      resume_error(path_, element + " holds " + std::to_string(shape[0]) +
+                              " particles, other elements of the group " +
+                              std::to_string(particles.n_particles));
+    particles.n_particles = shape[0];
+    particles.elements.emplace(name, std::move(series));
+  }
+  return particles;
+}
+
+H5mdWriter::Series H5mdWriter::load_series(const std::string& series_path, std::int64_t last_step) {
+  const auto invalid = [&](const std::string& reason) {
+    resume_error(path_, series_path + " is not a time series of this writer: " + reason);
+  };
+  for (const char* name : {"value", "step", "time"})
+    if (object_type(file_.get(), series_path + "/" + name) != H5I_DATASET)
+      invalid(std::string("it has no dataset '") + name + "'");
+
+  Series series;
+  series.value = open_dataset(file_.get(), series_path + "/value");
+  series.step = open_dataset(file_.get(), series_path + "/step");
+  series.time = open_dataset(file_.get(), series_path + "/time");
+  const Datatype value_type = dataset_type(series.value.get());
+  for (const hid_t native : {H5T_NATIVE_FLOAT, H5T_NATIVE_DOUBLE, H5T_NATIVE_INT})
+    if (same_representation(value_type.get(), native)) series.mem_type = native;
+  if (series.mem_type == H5I_INVALID_HID) invalid("value holds " + describe_type(value_type.get()));
+  if (!same_representation(dataset_type(series.step.get()).get(), native_type<std::int64_t>()) ||
+      !same_representation(dataset_type(series.time.get()).get(), H5T_NATIVE_DOUBLE))
+    invalid("step is not int64 or time not float64");
+
+  std::vector<hsize_t> lengths;
+  for (const Dataset* dataset : {&series.value, &series.step, &series.time}) {
+    const std::vector<hsize_t> shape = dataset_shape(dataset->get());
+    if (shape.empty() || dataset_max_shape(dataset->get())[0] != H5S_UNLIMITED)
+      invalid("its datasets cannot grow by frames");
+    lengths.push_back(shape[0]);
+  }
+  if (dataset_shape(series.step.get()).size() != 1 || dataset_shape(series.time.get()).size() != 1)
+    invalid("step or time holds more than one value per frame");
+  const std::vector<hsize_t> value_shape = dataset_shape(series.value.get());
+  series.frame_shape.assign(value_shape.begin() + 1, value_shape.end());
+
+  // A frame counts when value, step and time all hold it (a run killed while appending may have
+  // written some of the three), and is kept when its step is at most last_step; load_contents
+  // cuts the datasets to the frames kept.
+  series.steps.resize(static_cast<std::size_t>(lengths[1]));
+  series.times.resize(static_cast<std::size_t>(lengths[2]));
+  read_dataset(series.step.get(), native_type<std::int64_t>(), series.steps.data());
+  read_dataset(series.time.get(), H5T_NATIVE_DOUBLE, series.times.data());
+  const auto frames = static_cast<std::size_t>(std::min({lengths[0], lengths[1], lengths[2]}));
+  const auto after_checkpoint =
+      std::find_if(series.steps.begin(), series.steps.begin() + static_cast<std::ptrdiff_t>(frames),
+                   [&](std::int64_t step) { return step > last_step; });
+  const auto kept = static_cast<std::size_t>(after_checkpoint - series.steps.begin());
+  series.steps.resize(kept);
+  series.times.resize(kept);
+  return series;
+}
+
 // ---------------------------------------------------------------------------------------------
 // Parameters
 
@@ -187,9 +339,12 @@ H5mdWriter::Series& H5mdWriter::particle_series(const std::string& group, const 
     usage_error(path_, "particles group '" + group + "' was not added by add_particles_group");
   ParticlesGroup& particles = found->second;
   const std::string element = "/particles/" + group + "/" + name;
-  if (n != particles.n_particles)
+  if (n == 0) usage_error(path_, element + ": needs at least one particle");
+  // A resumed group that had no element yet takes the particle count of its first append.
+  const std::size_t n_particles = particles.n_particles != 0 ? particles.n_particles : n;
+  if (n != n_particles)
     usage_error(path_, element + ": " + std::to_string(n) + " particles given, the group has " +
-                           std::to_string(particles.n_particles));
+                           std::to_string(n_particles));
   if (dim < 1) usage_error(path_, element + ": dim must be >= 1, got " + std::to_string(dim));
   if (name == "position" && dim != particles.dim)
     usage_error(path_, element + ": positions have the group's " + std::to_string(particles.dim) +
@@ -212,6 +367,7 @@ H5mdWriter::Series& H5mdWriter::particle_series(const std::string& group, const 
   }
   check_name(path_, "element", name);
   if (name == "box") usage_error(path_, element + ": 'box' is the group's box, not an element");
+  particles.n_particles = n;
   return particles.elements
       .emplace(name, create_series_group(element, mem_type, frame_shape, chunk))
       .first->second;

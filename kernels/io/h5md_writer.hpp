@@ -32,6 +32,17 @@ class H5mdWriter {
                       const std::string& creator_version = MESOFLOW_VERSION,
                       const std::string& author = "unknown");
 
+  // Reopens the trajectory `path` written by an H5mdWriter, to continue it after a restart from a
+  // checkpoint taken at `last_step`. Every time series (each particles element and observable)
+  // is cut back to its frames at steps <= last_step, dropping those written after the checkpoint,
+  // so that appending the frames from there on gives the file an uninterrupted run would have
+  // written. The particles groups, elements and observables of the file are known again, with
+  // their precision and shapes (add_particles_group is not called again for a group of the file);
+  // /h5md and /parameters are kept as they are. Throws std::runtime_error naming `path` when it is
+  // missing, not an H5MD file of this writer's layout, or open elsewhere (by another writer or
+  // reader in this process, or in another process: HDF5 locks the files it opens).
+  static H5mdWriter resume(const std::string& path, std::int64_t last_step);
+
   H5mdWriter(H5mdWriter&&) = default;
   H5mdWriter& operator=(H5mdWriter&&) = default;
 
@@ -51,6 +62,7 @@ class H5mdWriter {
 
   // Declares /particles/<group> with `n_particles` particles in `dim` (2 or 3) dimensions and its
   // fixed box [box_lo, box_lo + box_edges), periodic or not per axis. Must precede appends to it.
+  // The groups of a resumed file are declared already.
   void add_particles_group(const std::string& group, int dim, std::size_t n_particles,
                            const std::vector<double>& box_lo, const std::vector<double>& box_edges,
                            const std::vector<bool>& periodic);
@@ -97,10 +109,17 @@ class H5mdWriter {
 
   struct ParticlesGroup {
     int dim = 0;
+    // 0 only for a resumed group that has no element yet: its first append sets the count.
     std::size_t n_particles = 0;
     std::map<std::string, Series> elements;
   };
 
+  // A writer of the open `file`, knowing none of its contents yet (see resume).
+  H5mdWriter(std::string path, File file);
+
+  void load_contents(std::int64_t last_step);
+  ParticlesGroup load_particles_group(const std::string& group, std::int64_t last_step);
+  Series load_series(const std::string& series_path, std::int64_t last_step);
   Group parameters_group();
   void append_particles(const std::string& group, const std::string& name, std::int64_t step,
                         double time, const void* data, hid_t mem_type, std::size_t n, int dim);

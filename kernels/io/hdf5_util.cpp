@@ -90,6 +90,18 @@ std::size_t element_count(const std::vector<hsize_t>& shape) {
   return count;
 }
 
+// Current (or, with `maximum`, largest allowed) extent of each dimension of a dataset.
+std::vector<hsize_t> extents(hid_t dataset, bool maximum) {
+  const Dataspace space{check_id(H5Dget_space(dataset), dataset, "", "read the shape of")};
+  const int rank = H5Sget_simple_extent_ndims(space.get());
+  if (rank < 0) raise_error_at(dataset, "", "read the rank of");
+  std::vector<hsize_t> shape(static_cast<std::size_t>(rank));
+  if (rank > 0)
+    H5Sget_simple_extent_dims(space.get(), maximum ? nullptr : shape.data(),
+                              maximum ? shape.data() : nullptr);
+  return shape;
+}
+
 // The string type of `stored` as it is laid out in memory for reading: variable-length strings
 // read as char*, fixed-length ones as blocks of H5Tget_size bytes.
 Datatype memory_string_type(hid_t stored) {
@@ -112,21 +124,24 @@ struct VariableStrings {
   std::vector<char*> pointers;
 };
 
+// Attribute `name` of the open group or dataset `obj`.
+Attribute open_attribute(hid_t obj, const std::string& name) {
+  return Attribute{check_id(H5Aopen(obj, name.c_str(), H5P_DEFAULT), obj, "",
+                            "open attribute '" + name + "' of")};
+}
+
 // Opens `object` in `file` read-only and its attribute `name`.
 Attribute open_attribute(const std::string& file, const std::string& object,
                          const std::string& name) {
   const File f = open_file(file, H5F_ACC_RDONLY);
   const Object obj{
       check_id(H5Oopen(f.get(), object.c_str(), H5P_DEFAULT), f.get(), object, "open object")};
-  return Attribute{check_id(H5Aopen(obj.get(), name.c_str(), H5P_DEFAULT), obj.get(), "",
-                            "open attribute '" + name + "' of")};
+  return open_attribute(obj.get(), name);
 }
 
-// Every value of an attribute converted to the in-memory type `T`.
+// Every value of the open attribute `attr` (named `name`) converted to the in-memory type `T`.
 template <class T>
-std::vector<T> read_attribute_values(const std::string& file, const std::string& object,
-                                     const std::string& name) {
-  const Attribute attr = open_attribute(file, object, name);
+std::vector<T> read_attribute_values(const Attribute& attr, const std::string& name) {
   const std::string what = "attribute '" + name + "' of";
   const Dataspace space{
       check_id(H5Aget_space(attr.get()), attr.get(), "", "read the shape of " + what)};
@@ -242,6 +257,30 @@ bool path_exists(hid_t loc, const std::string& path) {
   return true;
 }
 
+H5I_type_t object_type(hid_t loc, const std::string& path) {
+  if (!path_exists(loc, path)) return H5I_BADID;
+  const Object obj{H5Oopen(loc, path.c_str(), H5P_DEFAULT)};
+  return obj.valid() ? H5Iget_type(obj.get()) : H5I_BADID;
+}
+
+std::vector<std::string> link_names(hid_t group) {
+  H5G_info_t info;
+  check_status(H5Gget_info(group, &info), group, "", "list the links of");
+  std::vector<std::string> names;
+  for (hsize_t index = 0; index < info.nlinks; ++index) {
+    const auto name_at = [&](char* out, std::size_t size) {
+      return H5Lget_name_by_idx(group, ".", H5_INDEX_NAME, H5_ITER_INC, index, out, size,
+                                H5P_DEFAULT);
+    };
+    const ssize_t length = name_at(nullptr, 0);
+    if (length < 0) raise_error_at(group, "", "list the links of");
+    std::vector<char> name(static_cast<std::size_t>(length) + 1);
+    if (name_at(name.data(), name.size()) < 0) raise_error_at(group, "", "list the links of");
+    names.emplace_back(name.data(), static_cast<std::size_t>(length));
+  }
+  return names;
+}
+
 Group open_group(hid_t loc, const std::string& path) {
   return Group{check_id(H5Gopen2(loc, path.c_str(), H5P_DEFAULT), loc, path, "open group")};
 }
@@ -270,13 +309,12 @@ Dataset write_dataset(hid_t loc, const std::string& path, hid_t type, hid_t mem_
   return dataset;
 }
 
-std::vector<hsize_t> dataset_shape(hid_t dataset) {
-  const Dataspace space{check_id(H5Dget_space(dataset), dataset, "", "read the shape of")};
-  const int rank = H5Sget_simple_extent_ndims(space.get());
-  if (rank < 0) raise_error_at(dataset, "", "read the rank of");
-  std::vector<hsize_t> shape(static_cast<std::size_t>(rank));
-  if (rank > 0) H5Sget_simple_extent_dims(space.get(), shape.data(), nullptr);
-  return shape;
+std::vector<hsize_t> dataset_shape(hid_t dataset) { return extents(dataset, false); }
+
+std::vector<hsize_t> dataset_max_shape(hid_t dataset) { return extents(dataset, true); }
+
+Datatype dataset_type(hid_t dataset) {
+  return Datatype{check_id(H5Dget_type(dataset), dataset, "", "read the type of")};
 }
 
 void read_dataset(hid_t dataset, hid_t mem_type, void* out) {
@@ -320,6 +358,16 @@ void write_frame(hid_t series, hsize_t frame, const std::vector<hsize_t>& frame_
   const Dataspace memory_space = make_space(count);
   check_status(H5Dwrite(series, mem_type, memory_space.get(), file_space.get(), H5P_DEFAULT, data),
                series, "", "write frame " + std::to_string(frame) + " of");
+}
+
+void set_frame_count(hid_t series, hsize_t frames) {
+  std::vector<hsize_t> extent = dataset_shape(series);
+  if (extent.empty())
+    throw std::runtime_error("mesoflow::io: " + describe_object(series) + " in '" +
+                             file_name_of(series) + "' is a scalar, not a series of frames");
+  extent[0] = frames;
+  check_status(H5Dset_extent(series, extent.data()), series, "",
+               "set the number of frames to " + std::to_string(frames) + " of");
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -406,12 +454,12 @@ ArrayData<std::int64_t> read_dataset_int64(const std::string& file, const std::s
 
 std::vector<double> read_attribute_double(const std::string& file, const std::string& object,
                                           const std::string& name) {
-  return read_attribute_values<double>(file, object, name);
+  return read_attribute_values<double>(open_attribute(file, object, name), name);
 }
 
 std::vector<std::int64_t> read_attribute_int64(const std::string& file, const std::string& object,
                                                const std::string& name) {
-  return read_attribute_values<std::int64_t>(file, object, name);
+  return read_attribute_values<std::int64_t>(open_attribute(file, object, name), name);
 }
 
 bool read_attribute_bool(const std::string& file, const std::string& object,
@@ -421,6 +469,10 @@ bool read_attribute_bool(const std::string& file, const std::string& object,
   signed char value = 0;
   check_status(H5Aread(attr.get(), type.get(), &value), attr.get(), "", "read boolean");
   return value != 0;
+}
+
+std::vector<std::int64_t> read_attribute_int64(hid_t obj, const std::string& name) {
+  return read_attribute_values<std::int64_t>(open_attribute(obj, name), name);
 }
 
 std::vector<std::string> read_attribute_strings(const std::string& file, const std::string& object,

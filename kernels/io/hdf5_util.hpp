@@ -120,6 +120,13 @@ File try_open_file(const std::string& path, unsigned flags);  // as open_file; i
 // True when every link along `path` (relative to `loc`, or absolute) exists.
 bool path_exists(hid_t loc, const std::string& path);
 
+// What `path` below `loc` is: H5I_GROUP, H5I_DATASET, ..., or H5I_BADID when there is nothing
+// there to open.
+H5I_type_t object_type(hid_t loc, const std::string& path);
+
+// Names of the links in `group`, in increasing name order.
+std::vector<std::string> link_names(hid_t group);
+
 Group open_group(hid_t loc, const std::string& path);
 Group require_group(hid_t loc, const std::string& path);  // opens, or creates with parents
 Dataset open_dataset(hid_t loc, const std::string& path);
@@ -131,6 +138,12 @@ Dataset write_dataset(hid_t loc, const std::string& path, hid_t type, hid_t mem_
 
 // Extent of each dimension of a dataset (empty for a scalar).
 std::vector<hsize_t> dataset_shape(hid_t dataset);
+
+// Largest extent each dimension of a dataset may grow to (H5S_UNLIMITED: no limit).
+std::vector<hsize_t> dataset_max_shape(hid_t dataset);
+
+// The type a dataset is stored in.
+Datatype dataset_type(hid_t dataset);
 
 // Reads the whole dataset into `out`, converting to `mem_type`; `out` must hold every element.
 void read_dataset(hid_t dataset, hid_t mem_type, void* out);
@@ -147,6 +160,10 @@ Dataset create_series(hid_t loc, const std::string& name, hid_t type,
 // Extends the series to `frame + 1` frames and writes one frame (row-major, `mem_type`) there.
 void write_frame(hid_t series, hsize_t frame, const std::vector<hsize_t>& frame_shape,
                  hid_t mem_type, const void* data);
+
+// Sets the number of frames of a series: frames past `frames` are dropped, and when it grows the
+// new frames hold the fill value until written.
+void set_frame_count(hid_t series, hsize_t frames);
 
 // ---------------------------------------------------------------------------------------------
 // Attributes (an existing attribute of the same name is replaced)
@@ -171,6 +188,9 @@ void write_attribute(hid_t obj, const std::string& name, const std::vector<std::
 
 // All strings of an open dataset or attribute of fixed- or variable-length string type.
 std::vector<std::string> read_strings(hid_t dataset_or_attribute);
+
+// Every value of the attribute `name` of the open group or dataset `obj`, as int64.
+std::vector<std::int64_t> read_attribute_int64(hid_t obj, const std::string& name);
 
 // ---------------------------------------------------------------------------------------------
 // Whole-file readers for tests and analysis: each opens `file` read-only, reads, and closes it.

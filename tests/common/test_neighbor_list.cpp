@@ -47,14 +47,20 @@ Box<D, Real> make_box(double L, std::array<bool, D> periodic, double lo = -1.0) 
 template <int D, class Real, class Exec>
 std::set<std::pair<int, int>> listed_pairs(const NeighborList<D, Real, Exec>& nl) {
   auto data = nl.data();
+  auto particle = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), data.row_particle);
   auto count = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), data.count);
   auto index = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), data.index);
   std::set<std::pair<int, int>> pairs;
-  for (std::size_t i = 0; i < count.extent(0); ++i)
-    for (int k = 0; k < count(i); ++k) {
-      const bool inserted = pairs.insert({int(i), index(i, k)}).second;
-      EXPECT_TRUE(inserted) << "pair (" << i << ", " << index(i, k) << ") listed twice";
+  std::set<int> rows_of;
+  for (std::size_t r = 0; r < count.extent(0); ++r) {
+    const int i = particle(r);
+    EXPECT_TRUE(rows_of.insert(i).second) << "particle " << i << " owns two rows";
+    for (int k = 0; k < count(r); ++k) {
+      const bool inserted = pairs.insert({i, index(r, k)}).second;
+      EXPECT_TRUE(inserted) << "pair (" << i << ", " << index(r, k) << ") listed twice";
     }
+  }
+  EXPECT_EQ(rows_of.size(), count.extent(0));
   return pairs;
 }
 

@@ -1,0 +1,50 @@
+#include "drivers/common/output_paths.hpp"
+
+#include "kernels/io/hdf5_util.hpp"
+
+#include <fstream>
+#include <iomanip>
+#include <stdexcept>
+
+namespace mesoflow::driver {
+
+OutputPaths::OutputPaths(const std::string& output) {
+  const auto slash = output.find_last_of('/');
+  const auto dot = output.find_last_of('.');
+  const std::string stem =
+      dot != std::string::npos && (slash == std::string::npos || dot > slash) ? output.substr(0, dot) : output;
+  trajectory = output;
+  xdmf = stem + ".xdmf";
+  csv = stem + ".csv";
+  summary = stem + ".json";
+  checkpoint = stem + ".ckpt.h5";
+}
+
+void write_observables_csv(const std::string& h5md_path, const std::string& csv_path,
+                           const std::vector<std::string>& names) {
+  if (names.empty()) throw std::invalid_argument("write_observables_csv: no observables named");
+  const std::string first = "/observables/" + names.front();
+  const auto steps = io::read_dataset_int64(h5md_path, first + "/step");
+  const auto times = io::read_dataset_double(h5md_path, first + "/time");
+  std::vector<io::ArrayData<double>> columns;
+  for (const auto& name : names) {
+    columns.push_back(io::read_dataset_double(h5md_path, "/observables/" + name + "/value"));
+    if (columns.back().values.size() != steps.values.size())
+      throw std::runtime_error("observable " + name + " in " + h5md_path + " has " +
+                               std::to_string(columns.back().values.size()) + " samples, " + names.front() +
+                               " has " + std::to_string(steps.values.size()));
+  }
+  std::ofstream csv(csv_path);
+  if (!csv) throw std::runtime_error("cannot write " + csv_path);
+  csv << "step,time";
+  for (const auto& name : names) csv << ',' << name;
+  csv << '\n' << std::setprecision(12);
+  for (std::size_t k = 0; k < steps.values.size(); ++k) {
+    csv << steps.values[k] << ',' << times.values[k];
+    for (const auto& c : columns) csv << ',' << c.values[k];
+    csv << '\n';
+  }
+  if (!csv) throw std::runtime_error("error while writing " + csv_path);
+}
+
+}  // namespace mesoflow::driver

@@ -1,0 +1,21 @@
+// output_paths.hpp — the files a driver writes, all named after its --output path, and the small
+// CSV summary written beside the HDF5 file.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace mesoflow::driver {
+
+// For --output run.h5: run.h5 (H5MD), run.xdmf, run.csv, run.json, run.ckpt.h5.
+struct OutputPaths {
+  std::string trajectory, xdmf, csv, summary, checkpoint;
+
+  explicit OutputPaths(const std::string& output);
+};
+
+// Writes the scalar observables `names` of an H5MD file as CSV columns step,time,<names...>.
+void write_observables_csv(const std::string& h5md_path, const std::string& csv_path,
+                           const std::vector<std::string>& names);
+
+}  // namespace mesoflow::driver

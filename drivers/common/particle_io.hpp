@@ -1,0 +1,137 @@
+// particle_io.hpp — moving particle data between Kokkos Views and files: H5MD frames and
+// checkpoints. Only output steps touch the host; the time-step loop never does.
+#pragma once
+
+#include "kernels/common/box.hpp"
+#include "kernels/common/neighbor_list.hpp"
+#include "kernels/common/particles.hpp"
+#include "kernels/io/checkpoint.hpp"
+#include "kernels/io/h5md_writer.hpp"
+
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace mesoflow::driver {
+
+// Row-major (particle-major, component fastest) host copy of an (n × D) View, as H5MD and
+// checkpoints store it.
+template <class View>
+std::vector<typename View::non_const_value_type> to_row_major(const View& v) {
+  auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), v);
+  const std::size_t n = h.extent(0), dim = h.extent(1);
+  std::vector<typename View::non_const_value_type> out(n * dim);
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t d = 0; d < dim; ++d) out[i * dim + d] = h(i, d);
+  return out;
+}
+
+template <class View>
+void from_row_major(const View& v, const std::vector<typename View::non_const_value_type>& data) {
+  auto h = Kokkos::create_mirror_view(v);
+  const std::size_t n = h.extent(0), dim = h.extent(1);
+  if (data.size() != n * dim) throw std::runtime_error("particle data of the wrong size");
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t d = 0; d < dim; ++d) h(i, d) = data[i * dim + d];
+  Kokkos::deep_copy(v, h);
+}
+
+template <class View>
+std::vector<typename View::non_const_value_type> to_host_vector(const View& v) {
+  auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), v);
+  return std::vector<typename View::non_const_value_type>(h.data(), h.data() + h.extent(0));
+}
+
+template <class View>
+void from_host_vector(const View& v, const std::vector<typename View::non_const_value_type>& data) {
+  if (data.size() != v.extent(0)) throw std::runtime_error("particle data of the wrong size");
+  auto h = Kokkos::create_mirror_view(v);
+  for (std::size_t i = 0; i < data.size(); ++i) h(i) = data[i];
+  Kokkos::deep_copy(v, h);
+}
+
+template <int D, class Real>
+void add_particles_group(io::H5mdWriter& out, const std::string& group, std::size_t n, const Box<D, Real>& box) {
+  std::vector<double> lo(D), edges(D);
+  std::vector<bool> periodic(D);
+  for (int d = 0; d < D; ++d) {
+    lo[d] = box.lo[d];
+    edges[d] = box.length[d];
+    periodic[d] = box.periodic[d];
+  }
+  out.add_particles_group(group, D, n, lo, edges, periodic);
+}
+
+// One trajectory frame: positions and velocities.
+template <int D, class Real, class ExecSpace>
+void write_frame(io::H5mdWriter& out, const std::string& group, std::int64_t step, double time,
+                 const Particles<D, Real, ExecSpace>& p) {
+  const auto x = to_row_major(p.x), v = to_row_major(p.v);
+  out.append(group, "position", step, time, x.data(), p.size(), D);
+  out.append(group, "velocity", step, time, v.data(), p.size(), D);
+}
+
+// Everything needed to continue a run bit-identically: particle state including the forces of
+// the last step (velocity Verlet's first half uses them), and the neighbor list's reference
+// positions, from which the restarted run rebuilds exactly the same list.
+template <int D, class Real, class ExecSpace>
+void write_checkpoint(const std::string& path, std::int64_t step, double time,
+                      const Particles<D, Real, ExecSpace>& p, const NeighborList<D, Real, ExecSpace>& list) {
+  io::CheckpointWriter w(path);
+  const std::vector<std::size_t> vec_shape{p.size(), std::size_t(D)}, scalar_shape{p.size()};
+  w.put_scalar("step", step);
+  w.put_scalar("time", time);
+  w.put_scalar("dimension", std::int64_t(D));
+  w.put_string("precision", sizeof(Real) == 4 ? "float" : "double");
+  w.put("position", to_row_major(p.x).data(), vec_shape);
+  w.put("velocity", to_row_major(p.v).data(), vec_shape);
+  w.put("force", to_row_major(p.f).data(), vec_shape);
+  w.put("mass", to_host_vector(p.mass).data(), scalar_shape);
+  w.put("type", to_host_vector(p.type).data(), scalar_shape);
+  w.put("body", to_host_vector(p.body).data(), scalar_shape);
+  w.put("neighbor_reference_position", to_row_major(list.reference_positions()).data(), vec_shape);
+  w.commit();
+}
+
+struct RestartPoint {
+  std::int64_t step;
+  double time;
+};
+
+// Restores particles (sized to the checkpoint) and rebuilds the neighbor list from its
+// reference positions. Throws if the checkpoint was written with another dimension or precision.
+template <int D, class Real, class ExecSpace>
+RestartPoint read_checkpoint(const std::string& path, Particles<D, Real, ExecSpace>& p,
+                             NeighborList<D, Real, ExecSpace>& list, const Box<D, Real>& box) {
+  io::CheckpointReader r(path);
+  const std::string precision = sizeof(Real) == 4 ? "float" : "double";
+  if (r.get_scalar_int64("dimension") != D || r.get_string("precision") != precision)
+    throw std::runtime_error("checkpoint " + path + " holds a " + std::to_string(r.get_scalar_int64("dimension")) +
+                             "D " + r.get_string("precision") + " run; this run is " + std::to_string(D) + "D " +
+                             precision);
+  std::vector<Real> data;
+  p.allocate(r.shape("position").at(0));
+  typename Particles<D, Real, ExecSpace>::vector_view reference("mesoflow::restart::x_ref", p.size());
+  Particles<D, Real, ExecSpace> at_reference = p;
+  at_reference.x = reference;
+  std::vector<int> ints;
+  r.get("body", ints);
+  from_host_vector(p.body, ints);
+  r.get("neighbor_reference_position", data);
+  from_row_major(reference, data);
+  list.build(at_reference, box);
+  r.get("position", data);
+  from_row_major(p.x, data);
+  r.get("velocity", data);
+  from_row_major(p.v, data);
+  r.get("force", data);
+  from_row_major(p.f, data);
+  r.get("mass", data);
+  from_host_vector(p.mass, data);
+  r.get("type", ints);
+  from_host_vector(p.type, ints);
+  return {r.get_scalar_int64("step"), r.get_scalar_double("time")};
+}
+
+}  // namespace mesoflow::driver
