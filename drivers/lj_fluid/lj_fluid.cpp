@@ -6,7 +6,8 @@
 // Units (LJ reduced): length σ, energy ε, mass m, time τ = σ√(m/ε), k_B = 1; density in σ^-D.
 //
 // Scene: N particles on a square/cubic lattice (jittered) fill a periodic box of side
-// L = (N/ρ)^(1/D); FIRE quenches the lattice to a nearby potential-energy minimum, velocities are
+// L = (N/ρ)^(1/D); FIRE relaxes it towards a nearby potential-energy minimum (at most
+// --fire-iterations iterations, as the studies remove overlaps before a run), velocities are
 // drawn from the Maxwell distribution at k_BT (zero total momentum, rescaled to exactly k_BT), then
 // velocity Verlet runs NVE, or NVT with --gamma > 0 (Langevin thermostat).
 //

@@ -446,12 +446,19 @@ void expect_gradient_is_normal(const std::vector<SmoothCase<D>>& cases, unsigned
   }
 }
 
-TYPED_TEST(GeometryTest, GradientIsNormal) {
-  using Exec = typename TypeParam::exec;
-  using Real = typename TypeParam::real;
-  if constexpr (!std::is_same<Real, double>::value) {
-    GTEST_SKIP() << "finite-difference gradients need double precision";
-  } else {
+// Finite-difference gradients need double precision: this suite runs on every backend in double.
+template <class ExecSpace>
+class GeometryGradientTest : public ::testing::Test {};
+#if defined(KOKKOS_ENABLE_OPENMP) && defined(KOKKOS_ENABLE_SERIAL)
+using GradientBackends = ::testing::Types<Kokkos::Serial, Kokkos::OpenMP>;
+#else
+using GradientBackends = ::testing::Types<Kokkos::DefaultExecutionSpace>;
+#endif
+TYPED_TEST_SUITE(GeometryGradientTest, GradientBackends);
+
+TYPED_TEST(GeometryGradientTest, GradientIsNormal) {
+  using Exec = TypeParam;
+  {
     using mesoflow::dot;
     const auto everywhere = [](const auto&) { return true; };
     const auto off_center = [](const auto& center) {

@@ -64,6 +64,35 @@ double observed_order(double lambda, double gamma) {
   return std::log2(e_coarse / e_fine);
 }
 
+template <class Real, class Exec>
+void reverse_velocities(const Particles<2, Real, Exec>& p) {
+  const auto v = p.v;
+  Kokkos::parallel_for(
+      Kokkos::RangePolicy<Exec>(0, p.size()), KOKKOS_LAMBDA(int i) {
+        for (int d = 0; d < 2; ++d) v(i, d) = -v(i, d);
+      });
+}
+
+// F_i = −k_i (x_i − c_i) with k_i = 1 + i; returns Σ ½ k_i |x_i − c_i|².
+template <class Real, class Exec>
+double harmonic_well_forces(const Particles<3, Real, Exec>& p,
+                            const typename Particles<3, Real, Exec>::vector_view& centre) {
+  const auto x = p.x, f = p.f;
+  double e = 0;
+  Kokkos::parallel_reduce(
+      Kokkos::RangePolicy<Exec>(0, p.size()),
+      KOKKOS_LAMBDA(int i, double& acc) {
+        const Real k = Real(1 + i);
+        for (int d = 0; d < 3; ++d) {
+          const Real dx = x(i, d) - centre(i, d);
+          f(i, d) = -k * dx;
+          acc += 0.5 * double(k) * double(dx) * double(dx);
+        }
+      },
+      e);
+  return e;
+}
+
 template <class T>
 class IntegratorTest : public ::testing::Test {};
 TYPED_TEST_SUITE(IntegratorTest, testing::BackendsAndPrecisions);
@@ -123,10 +152,7 @@ TYPED_TEST(IntegratorTest, ConservativeMotionIsTimeReversibleAndConservesEnergy)
   // Shadow-Hamiltonian bound for velocity Verlet: relative energy error O((ωΔt)²/8) ≈ 3e-4.
   EXPECT_LT(max_drift, 1e-3);
   // Reverse the velocities and integrate back: the start is recovered to round-off.
-  Kokkos::parallel_for(
-      Kokkos::RangePolicy<Exec>(0, n), KOKKOS_LAMBDA(int i) {
-        for (int d = 0; d < 2; ++d) p.v(i, d) = -p.v(i, d);
-      });
+  reverse_velocities(p);
   for (int s = 0; s < steps; ++s) {
     vv.first_half(p);
     oscillator_forces(p, p.v, Real(1), Real(0));
@@ -169,22 +195,7 @@ TYPED_TEST(IntegratorTest, FireReachesZeroForceInHarmonicWells) {
   Kokkos::deep_copy(centre, c);
   Kokkos::deep_copy(p.x, x);
   // Stiffness varies 1…50 across particles: an ill-conditioned quadratic.
-  auto forces = [&] {
-    const auto xs = p.x, f = p.f;
-    double e = 0;
-    Kokkos::parallel_reduce(
-        Kokkos::RangePolicy<Exec>(0, n),
-        KOKKOS_LAMBDA(int i, double& acc) {
-          const Real k = Real(1 + i);
-          for (int d = 0; d < 3; ++d) {
-            const Real dx = xs(i, d) - centre(i, d);
-            f(i, d) = -k * dx;
-            acc += 0.5 * double(k) * double(dx) * double(dx);
-          }
-        },
-        e);
-    return e;
-  };
+  auto forces = [&] { return harmonic_well_forces(p, centre); };
   FireParameters params;
   params.dt_start = 0.01;
   params.dt_max = 0.1;
