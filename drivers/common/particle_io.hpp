@@ -77,7 +77,8 @@ void write_frame(io::H5mdWriter& out, const std::string& group, std::int64_t ste
 // positions, from which the restarted run rebuilds exactly the same list.
 template <int D, class Real, class ExecSpace>
 void write_checkpoint(const std::string& path, std::int64_t step, double time,
-                      const Particles<D, Real, ExecSpace>& p, const NeighborList<D, Real, ExecSpace>& list) {
+                      const Particles<D, Real, ExecSpace>& p, const NeighborList<D, Real, ExecSpace>& list,
+                      const Box<D, Real>& box) {
   io::CheckpointWriter w(path);
   const std::vector<std::size_t> vec_shape{p.size(), std::size_t(D)}, scalar_shape{p.size()};
   w.put_scalar("step", step);
@@ -91,6 +92,9 @@ void write_checkpoint(const std::string& path, std::int64_t step, double time,
   w.put("type", to_host_vector(p.type).data(), scalar_shape);
   w.put("body", to_host_vector(p.body).data(), scalar_shape);
   w.put("neighbor_reference_position", to_row_major(list.reference_positions()).data(), vec_shape);
+  std::vector<double> box_data;
+  for (int d = 0; d < D; ++d) box_data.insert(box_data.end(), {double(box.lo[d]), double(box.length[d])});
+  w.put("box_lo_length", box_data.data(), {std::size_t(D), std::size_t(2)});
   w.commit();
 }
 
@@ -99,10 +103,10 @@ struct RestartPoint {
   double time;
 };
 
-// Restores particles (sized to the checkpoint) and rebuilds the neighbor list from its
-// reference positions. Throws if the checkpoint was written with another dimension or precision.
+// Restores particles and rebuilds the neighbor list from its reference positions. Throws if the
+// checkpoint was written with another dimension, precision, particle count or box.
 template <int D, class Real, class ExecSpace>
-RestartPoint read_checkpoint(const std::string& path, Particles<D, Real, ExecSpace>& p,
+RestartPoint read_checkpoint(const std::string& path, const Particles<D, Real, ExecSpace>& p,
                              NeighborList<D, Real, ExecSpace>& list, const Box<D, Real>& box) {
   io::CheckpointReader r(path);
   const std::string precision = sizeof(Real) == 4 ? "float" : "double";
@@ -110,8 +114,19 @@ RestartPoint read_checkpoint(const std::string& path, Particles<D, Real, ExecSpa
     throw std::runtime_error("checkpoint " + path + " holds a " + std::to_string(r.get_scalar_int64("dimension")) +
                              "D " + r.get_string("precision") + " run; this run is " + std::to_string(D) + "D " +
                              precision);
+  const std::size_t stored = r.shape("position").at(0);
+  if (stored != p.size())
+    throw std::runtime_error("checkpoint " + path + " holds " + std::to_string(stored) + " particles, this run has " +
+                             std::to_string(p.size()));
+  std::vector<double> box_data;
+  r.get("box_lo_length", box_data);
+  for (int d = 0; d < D; ++d)
+    if (box_data.at(2 * d) != double(box.lo[d]) || box_data.at(2 * d + 1) != double(box.length[d]))
+      throw std::runtime_error("checkpoint " + path + " was written for a box of length " +
+                               std::to_string(box_data.at(2 * d + 1)) + " along axis " + std::to_string(d) +
+                               ", this run's box is " + std::to_string(double(box.length[d])) +
+                               ": restart with the parameters of the interrupted run");
   std::vector<Real> data;
-  p.allocate(r.shape("position").at(0));
   typename Particles<D, Real, ExecSpace>::vector_view reference("mesoflow::restart::x_ref", p.size());
   Particles<D, Real, ExecSpace> at_reference = p;
   at_reference.x = reference;

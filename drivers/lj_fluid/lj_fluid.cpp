@@ -193,7 +193,7 @@ void run(const Parameters& par, const cli::DriverApp& app) {
     if (step % par.checkpoint_every == 0 || step == par.steps) {
       cli::ScopedTimer t(timers, "checkpoint");
       h5->flush();
-      driver::write_checkpoint(out.checkpoint, step, time, p, list);
+      driver::write_checkpoint(out.checkpoint, step, time, p, list, box);
     }
     progress.update(step - first);
   }
@@ -204,10 +204,11 @@ void run(const Parameters& par, const cli::DriverApp& app) {
   driver::write_observables_csv(out.trajectory, out.csv,
                                 {"kinetic_energy", "potential_energy", "total_energy", "temperature"});
   std::ofstream json(out.summary);
+  const double steps_per_second = step > first && wall > 0 ? double(step - first) / wall : 0.0;
   json << std::setprecision(10) << "{\n  \"driver\": \"lj_fluid\",\n  \"dimension\": " << D << ",\n  \"precision\": \""
        << par.precision << "\",\n  \"particles\": " << par.particles << ",\n  \"steps_run\": " << step - first
-       << ",\n  \"wall_seconds\": " << wall << ",\n  \"steps_per_second\": " << (step - first) / wall
-       << ",\n  \"particle_updates_per_second\": " << double(step - first) * par.particles / wall
+       << ",\n  \"wall_seconds\": " << wall << ",\n  \"steps_per_second\": " << steps_per_second
+       << ",\n  \"particle_updates_per_second\": " << steps_per_second * par.particles
        << ",\n  \"neighbor_list_builds\": " << list.num_builds() - builds_before << ",\n  \"kokkos\": \""
        << kokkos_configuration() << "\"\n}\n";
   if (!app.quiet()) timers.print(std::cout);
