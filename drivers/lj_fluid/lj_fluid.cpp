@@ -134,7 +134,7 @@ void run(const Parameters& par, const cli::DriverApp& app) {
     step = at.step;
     time = at.time;
     h5.emplace(io::H5mdWriter::resume(out.trajectory, step));
-    std::cerr << "lj_fluid: resumed from " << out.checkpoint << " at step " << step << "\n";
+    if (!app.quiet()) std::cerr << "lj_fluid: resumed from " << out.checkpoint << " at step " << step << "\n";
   } else {
     place_on_lattice(p, L, std::uint64_t(par.seed));
     FireParameters fire;
@@ -143,7 +143,8 @@ void run(const Parameters& par, const cli::DriverApp& app) {
     fire.max_iterations = par.fire_iterations;
     fire.force_tolerance = 1e-6;
     const auto quench = fire_minimize(p, pair_forces, fire);
-    std::cerr << "lj_fluid: FIRE quench " << quench.iterations << " iterations, U/N = "
+    if (!app.quiet())
+      std::cerr << "lj_fluid: FIRE quench " << quench.iterations << " iterations, U/N = "
               << quench.energy / par.particles << ", max |F| = " << quench.max_force << "\n";
     thermalize(p, par.temperature, std::uint64_t(par.seed));
     potential = pair_forces();
