@@ -27,6 +27,7 @@ struct NearWallDrag {
   Real sigma;             // σ
   Real alpha;             // α
   Real d_floor;           // smallest d_i used in eq. 6
+  bool four_thirds;       // α = 4/3 exactly
 
   // b∞ ≥ 0, b0 ≥ 0, σ > 0, N_v ≥ 1 vertices per droplet, α > 0, d_floor = d_floor_over_sigma · σ > 0.
   NearWallDrag(Real b_inf, Real b0, Real sigma_, int num_vertices, Real alpha_ = Real(4) / Real(3),
@@ -43,13 +44,16 @@ struct NearWallDrag {
     sigma = sigma_;
     alpha = alpha_;
     d_floor = d_floor_over_sigma * sigma_;
+    four_thirds = alpha_ == Real(4) / Real(3);
   }
 
   // ζ_i/N_v at distance d (eq. 6 over N_v).
   KOKKOS_INLINE_FUNCTION Real coefficient(Real d) const {
     if (near_coefficient == Real(0)) return far_coefficient;
     const Real gap = d > d_floor ? d : d_floor;
-    return far_coefficient + near_coefficient * kmath::pow(sigma / gap, alpha);
+    const Real ratio = sigma / gap;
+    // The paper's α = 4/3 as x·∛x: several times cheaper than pow() in the hottest loop.
+    return far_coefficient + near_coefficient * (four_thirds ? ratio * kmath::cbrt(ratio) : kmath::pow(ratio, alpha));
   }
 
   KOKKOS_INLINE_FUNCTION void evaluate(const SurfacePoint<2, Real>& s, const Vec<2, Real>& v, Vec<2, Real>& force,

@@ -1,0 +1,157 @@
+// droplet_scene.hpp — a scene of 2D deformable-polygon (DP) droplets falling under gravity past
+// walls and obstacles (capillary-droplets §2): composes the DP kernels, owns the state, steps it.
+// Shared by the droplet drivers, their tests and benchmarks; physics stays in kernels/.
+//
+// Units (capillary-droplets §2.2): length σ (undeformed droplet diameter), acceleration g, areal
+// mass density ρ; time t0 = √(σ/g). So a0 = πσ²/4, M = ρ a0 = π/4, and the paper's dimensionless
+// numbers are the coefficients: γ = Γ, k_a = K_a, k_l = K_l, ε_w = E_w, and the far-field drag
+// follows from the terminal speed, V_t = Mg/(b∞√(σg)) (eq. 15) ⇒ b∞ = M / V_t.
+//
+// Many droplets ("replicas") can share one scene: their vertices are one particle set and every
+// kernel runs over all of them at once. Droplets do not interact with each other.
+#pragma once
+
+#include "kernels/common/fire.hpp"
+#include "kernels/common/reductions.hpp"
+#include "kernels/common/surface_force.hpp"
+#include "kernels/common/velocity_verlet.hpp"
+#include "kernels/dp/area_force.hpp"
+#include "kernels/dp/line_tension.hpp"
+#include "kernels/dp/gravity.hpp"
+#include "kernels/dp/near_wall_drag.hpp"
+#include "kernels/dp/polygons.hpp"
+#include "kernels/dp/segment_spring_force.hpp"
+#include "kernels/dp/shape_forces.hpp"
+#include "kernels/dp/vertex_wall_repulsion.hpp"
+
+#include <cmath>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace mesoflow::droplets {
+
+// The paper's dimensionless parameters (defaults: the Fig. 2 droplet).
+struct DropletParameters {
+  int vertices = 256;             // N_v
+  double line_tension = 0.16;     // Γ = γ/(gρσ²)
+  double area_stiffness = 1e4;    // K_a = k_a σ/(gρ)
+  double perimeter_stiffness = 1e-4;  // K_l = k_l/(gρσ); the paper keeps K_l/Γ < 10⁻³ (App. B)
+  double wall_energy = 1e4;       // E_w = ε_w/(gρσ³)
+  double near_wall_drag = 0.064;  // b0/b∞
+  double terminal_speed = 0.08;   // V_t = Mg/(b∞√(σg)), eq. 15
+  double drag_exponent = 4.0 / 3.0;  // α, eq. 6
+  double dt = 1e-3;               // Δt/t0
+  bool drag = true;               // background-fluid drag (eqs. 5–6); off only to check energy conservation
+  double gravity_angle = -90.0;   // direction of g in degrees from +x (−90: along −y)
+};
+
+constexpr double droplet_area = dp::pi / 4;  // a0 = πσ²/4
+constexpr double droplet_mass = dp::pi / 4;  // M = ρ a0
+
+template <class Real, class ExecSpace = Kokkos::DefaultExecutionSpace>
+class DropletScene {
+ public:
+  using particles_type = Particles<2, Real, ExecSpace>;
+
+  // `centres`: one droplet per entry, placed as a regular polygon of area a0 (§2.4).
+  DropletScene(const DropletParameters& par, const Surfaces<Real, ExecSpace>& surfaces,
+               const std::vector<Vec<2, double>>& centres)
+      : par_(par),
+        polygons_(dp::Polygons<Real, ExecSpace>::uniform(int(centres.size()), par.vertices, Real(droplet_area),
+                                                         Real(dp::regular_polygon_edge(droplet_area, par.vertices)))),
+        state_(int(centres.size())),
+        surfaces_(surfaces),
+        vv_(Real(par.dt)),
+        p_(std::size_t(par.vertices) * centres.size(), "droplets"),
+        l0_(dp::regular_polygon_edge(droplet_area, par.vertices)),
+        b_inf_(droplet_mass / par.terminal_speed) {
+    if (centres.empty()) throw std::invalid_argument("droplet scene: no droplets");
+    if (par.vertices < 3) throw std::invalid_argument("droplet scene: vertices must be >= 3");
+    dp::assign_bodies(polygons_, p_);
+    auto x = Kokkos::create_mirror_view(p_.x);
+    for (std::size_t b = 0; b < centres.size(); ++b) dp::place_regular_polygon(polygons_, int(b), x, centres[b]);
+    Kokkos::deep_copy(p_.x, x);
+    Kokkos::deep_copy(p_.mass, Real(droplet_mass / par.vertices));
+    const double angle = par.gravity_angle * dp::pi / 180.0;
+    gravity_ = Vec<2, Real>{{Real(std::cos(angle)), Real(std::sin(angle))}};
+  }
+
+  // Removes overlaps with walls and obstacles by FIRE without gravity or drag (§2.4).
+  FireResult relax(int max_iterations = 20000) {
+    FireParameters fire;
+    fire.dt_start = par_.dt;
+    fire.dt_max = 10 * par_.dt;
+    fire.max_iterations = max_iterations;
+    fire.force_tolerance = 1e-6;
+    return fire_minimize(p_, [&] { return conservative_forces(false); }, fire);
+  }
+
+  // One modified velocity-Verlet step (kernels/common/velocity_verlet.hpp) with gravity and drag.
+  void step() {
+    vv_.first_half(p_);
+    shape_forces(true);
+    if (par_.drag)  // one surface query per vertex serves repulsion and drag
+      accumulate_surface_forces(surfaces_, p_, vv_.velocity_for_forces(p_), repulsion(), drag());
+    else if (has_surfaces())
+      accumulate_surface_forces(surfaces_, p_, p_.v, repulsion());
+    vv_.second_half(p_);
+    ++steps_;
+  }
+
+  // f ← −∇U (shape, gravity if on, walls) at the current positions; returns U.
+  double conservative_forces(bool with_gravity) {
+    double u = shape_forces(with_gravity);
+    if (has_surfaces()) u += accumulate_surface_forces(surfaces_, p_, p_.v, repulsion());
+    return u;
+  }
+
+  // Total energy: kinetic + shape + gravity + walls (forces are recomputed).
+  double total_energy() { return conservative_forces(true) + kinetic_energy(p_); }
+
+  dp::BodyObservables observables() {
+    dp::update_body_state(polygons_, p_, state_);
+    return dp::body_observables(state_);
+  }
+
+  const particles_type& particles() const { return p_; }
+  const dp::Polygons<Real, ExecSpace>& polygons() const { return polygons_; }
+  const DropletParameters& parameters() const { return par_; }
+  long long steps() const { return steps_; }
+  double time() const { return double(steps_) * par_.dt; }
+  double far_drag() const { return b_inf_; }
+  double edge_length() const { return l0_; }
+
+ private:
+  bool has_surfaces() const { return surfaces_.num_walls() > 0 || surfaces_.obstacles().size() > 0; }
+
+  // f ← −∇(U_shape + U_gravity); returns that energy.
+  double shape_forces(bool with_gravity) {
+    p_.zero_forces();
+    dp::update_body_state(polygons_, p_, state_);
+    const Vec<2, Real> g = with_gravity ? gravity_ : Vec<2, Real>::zero();
+    return dp::accumulate_shape_forces(polygons_, state_, p_, dp::AreaElasticity<Real>{Real(par_.area_stiffness)},
+                                       dp::SegmentSprings<Real>{Real(par_.perimeter_stiffness)},
+                                       dp::LineTension<Real>{Real(par_.line_tension)}, dp::Gravity<Real>{g});
+  }
+
+  dp::VertexWallRepulsion<Real> repulsion() const {
+    return dp::VertexWallRepulsion<Real>(Real(par_.wall_energy), Real(l0_));  // vertex diameter δ = l0
+  }
+  dp::NearWallDrag<Real> drag() const {
+    return dp::NearWallDrag<Real>(Real(b_inf_), Real(par_.near_wall_drag * b_inf_), Real(1), par_.vertices,
+                                  Real(par_.drag_exponent));
+  }
+
+  DropletParameters par_;
+  dp::Polygons<Real, ExecSpace> polygons_;
+  dp::BodyState<Real, ExecSpace> state_;
+  Surfaces<Real, ExecSpace> surfaces_;
+  VelocityVerlet<2, Real, ExecSpace> vv_;
+  particles_type p_;
+  double l0_, b_inf_;
+  Vec<2, Real> gravity_;
+  long long steps_ = 0;
+};
+
+}  // namespace mesoflow::droplets
