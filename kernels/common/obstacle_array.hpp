@@ -378,12 +378,16 @@ class ObstacleArray {
     // Cell of x folded into the box, and the distance from x to that cell's nearest edge.
     int home[2];
     Real gap = min_width_;
+    Vec<2, Real> folded;  // x folded into the box
+    Real fraction[2];     // position of x within its home cell, in cell widths
     for (int d = 0; d < 2; ++d) {
       Real u = (x[d] - lo_[d]) * inv_width_[d];
       u -= Real(n_[d]) * kmath::floor(u / Real(n_[d]));
+      folded[d] = lo_[d] + u / inv_width_[d];
       const int c = int(kmath::floor(u));
       home[d] = c < 0 ? 0 : (c >= n_[d] ? n_[d] - 1 : c);
       const Real inside = u - Real(home[d]);
+      fraction[d] = inside;
       const Real edge = (inside < Real(0.5) ? inside : Real(1) - inside) / inv_width_[d];
       gap = edge < gap ? edge : gap;
     }
@@ -407,10 +411,10 @@ class ObstacleArray {
       }
       for (int oy = lo[1]; oy <= hi[1]; ++oy) {
         if (oy == -k || oy == k) {
-          for (int ox = lo[0]; ox <= hi[0]; ++ox) scan_cell(x, home, ox, oy, best_r2, best_dr, examined);
+          for (int ox = lo[0]; ox <= hi[0]; ++ox) scan_cell(folded, home, fraction, ox, oy, best_r2, best_dr, examined);
         } else {
-          if (lo[0] == -k) scan_cell(x, home, -k, oy, best_r2, best_dr, examined);
-          if (hi[0] == k) scan_cell(x, home, k, oy, best_r2, best_dr, examined);
+          if (lo[0] == -k) scan_cell(folded, home, fraction, -k, oy, best_r2, best_dr, examined);
+          if (hi[0] == k) scan_cell(folded, home, fraction, k, oy, best_r2, best_dr, examined);
         }
       }
     }
@@ -423,14 +427,42 @@ class ObstacleArray {
  private:
   // Minimum-image separations from x to the centres of the cell at offset (ox, oy) from home; keeps
   // the shortest (the first of equals).
-  KOKKOS_INLINE_FUNCTION void scan_cell(const Vec<2, Real>& x, const int (&home)[2], int ox, int oy,
-                                        Real& best_r2, Vec<2, Real>& best_dr, int& examined) const {
-    const int cx = (home[0] + ox + n_[0]) % n_[0];
-    const int cy = (home[1] + oy + n_[1]) % n_[1];
-    const int k = cx + n_[0] * cy;
+  KOKKOS_INLINE_FUNCTION void scan_cell(const Vec<2, Real>& x, const int (&home)[2], const Real (&fraction)[2],
+                                        int ox, int oy, Real& best_r2, Vec<2, Real>& best_dr, int& examined) const {
+    // The cell `o` cells from home, wrapped once (|o| < n), and the image shift of its centres.
+    // While (|o| + 1) cells fit in half the box on both axes that image is the minimum image;
+    // beyond, each centre gets the minimum image explicitly (small boxes, far rings).
+    const int offset[2] = {ox, oy};
+    int c[2];
+    Vec<2, Real> image = x;  // x moved by minus the shift, so dr = image − centre
+    bool nearest_image = true;
+    for (int d = 0; d < 2; ++d) {
+      c[d] = home[d] + offset[d];
+      if (c[d] < 0) {
+        c[d] += n_[d];
+        image[d] += length_[d];
+      } else if (c[d] >= n_[d]) {
+        c[d] -= n_[d];
+        image[d] -= length_[d];
+      }
+      const int reach = offset[d] < 0 ? 1 - offset[d] : 1 + offset[d];
+      nearest_image = nearest_image && 2 * reach <= n_[d];
+    }
+    if (nearest_image) {  // skip a cell whose every point is farther than the best centre so far
+      Real gap2 = 0;
+      for (int d = 0; d < 2; ++d) {
+        const Real cells = offset[d] < 0 ? fraction[d] - Real(offset[d] + 1)
+                                         : (offset[d] > 0 ? Real(offset[d]) - fraction[d] : Real(0));
+        const Real g = cells / inv_width_[d];
+        gap2 += g * g;
+      }
+      if (gap2 >= best_r2) return;
+    }
+    const int k = c[0] + n_[0] * c[1];
     for (int s = cell_offset_(k); s < cell_offset_(k + 1); ++s) {
-      Vec<2, Real> dr{{x[0] - centers_(s, 0), x[1] - centers_(s, 1)}};
-      for (int d = 0; d < 2; ++d) dr[d] -= length_[d] * kmath::floor(dr[d] * inv_length_[d] + Real(0.5));
+      Vec<2, Real> dr{{image[0] - centers_(s, 0), image[1] - centers_(s, 1)}};
+      if (!nearest_image)
+        for (int d = 0; d < 2; ++d) dr[d] -= length_[d] * kmath::floor(dr[d] * inv_length_[d] + Real(0.5));
       const Real r2 = norm2(dr);
       ++examined;
       if (r2 < best_r2) {
