@@ -11,6 +11,7 @@
 // kernel runs over all of them at once. Droplets do not interact with each other.
 #pragma once
 
+#include "kernels/common/body_obstacle_list.hpp"
 #include "kernels/common/fire.hpp"
 #include "kernels/common/reductions.hpp"
 #include "kernels/common/surface_force.hpp"
@@ -25,6 +26,7 @@
 #include "kernels/dp/vertex_wall_repulsion.hpp"
 
 #include <cmath>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -73,6 +75,8 @@ class DropletScene {
     for (std::size_t b = 0; b < centres.size(); ++b) dp::place_regular_polygon(polygons_, int(b), x, centres[b]);
     Kokkos::deep_copy(p_.x, x);
     Kokkos::deep_copy(p_.mass, Real(droplet_mass / par.vertices));
+    if (surfaces.obstacles().size() > 0)
+      candidates_.emplace(surfaces.obstacles(), polygons_.offset, Real(candidate_skin));
     const double angle = par.gravity_angle * dp::pi / 180.0;
     gravity_ = Vec<2, Real>{{Real(std::cos(angle)), Real(std::sin(angle))}};
   }
@@ -92,9 +96,9 @@ class DropletScene {
     vv_.first_half(p_);
     shape_forces(true);
     if (par_.drag)  // one surface query per vertex serves repulsion and drag
-      accumulate_surface_forces(surfaces_, p_, vv_.velocity_for_forces(p_), repulsion(), drag());
+      with_surfaces([&](const auto& q) { accumulate_surface_forces(q, p_, vv_.velocity_for_forces(p_), repulsion(), drag()); });
     else if (has_surfaces())
-      accumulate_surface_forces(surfaces_, p_, p_.v, repulsion());
+      with_surfaces([&](const auto& q) { accumulate_surface_forces(q, p_, p_.v, repulsion()); });
     vv_.second_half(p_);
     ++steps_;
   }
@@ -102,7 +106,7 @@ class DropletScene {
   // f ← −∇U (shape, gravity if on, walls) at the current positions; returns U.
   double conservative_forces(bool with_gravity) {
     double u = shape_forces(with_gravity);
-    if (has_surfaces()) u += accumulate_surface_forces(surfaces_, p_, p_.v, repulsion());
+    if (has_surfaces()) with_surfaces([&](const auto& q) { u += accumulate_surface_forces(q, p_, p_.v, repulsion()); });
     return u;
   }
 
@@ -124,6 +128,18 @@ class DropletScene {
 
  private:
   bool has_surfaces() const { return surfaces_.num_walls() > 0 || surfaces_.obstacles().size() > 0; }
+
+  // Calls use(query) with the surface query of the step: with obstacles, walls plus each droplet's
+  // obstacle candidates (rebuilt when a droplet has moved by the skin); otherwise the walls alone.
+  template <class Use>
+  void with_surfaces(Use&& use) {
+    if (!candidates_) {
+      use(surfaces_);
+      return;
+    }
+    candidates_->update(p_.x);
+    use(BodySurfaces<Real, ExecSpace>{surfaces_.walls(), surfaces_.num_walls(), *candidates_, polygons_.body});
+  }
 
   // f ← −∇(U_shape + U_gravity); returns that energy.
   double shape_forces(bool with_gravity) {
@@ -151,7 +167,9 @@ class DropletScene {
   particles_type p_;
   double l0_, b_inf_;
   Vec<2, Real> gravity_;
+  std::optional<BodyObstacleList<Real, ExecSpace>> candidates_;  // with obstacles only
   long long steps_ = 0;
+  static constexpr double candidate_skin = 0.5;  // σ
 };
 
 }  // namespace mesoflow::droplets

@@ -363,6 +363,41 @@ class ObstacleArray {
   // Centres folded into the box, in cell order.
   center_view centers() const { return centers_; }
 
+  // Width of the grid cells: for a maximal Poisson-disk array (poisson_disk_obstacles with
+  // cell width σ_ob + w_ob) every point lies within this distance of an obstacle centre.
+  Real cell_width() const { return min_width_; }
+  Real box_length(int d) const { return length_[d]; }
+
+  // Calls visit(centre_image) for every obstacle whose nearest periodic image to x lies within
+  // `radius` of x (centre_image: that image's position, x − centre_image the minimum-image
+  // separation). Visits each obstacle at most once; for setup work (candidate lists), not hot loops.
+  template <class Visitor>
+  KOKKOS_INLINE_FUNCTION void for_each_within(const Vec<2, Real>& x, Real radius, Visitor&& visit) const {
+    if (num_obstacles_ == 0) return;
+    int home[2], first[2], count[2];
+    for (int d = 0; d < 2; ++d) {
+      Real u = (x[d] - lo_[d]) * inv_width_[d];
+      u -= Real(n_[d]) * kmath::floor(u / Real(n_[d]));
+      const int c = int(kmath::floor(u));
+      home[d] = c < 0 ? 0 : (c >= n_[d] ? n_[d] - 1 : c);
+      const int reach = int(kmath::floor(radius * inv_width_[d])) + 1;
+      first[d] = 2 * reach + 1 >= n_[d] ? 0 : home[d] - reach;  // the whole axis when it wraps onto itself
+      count[d] = 2 * reach + 1 >= n_[d] ? n_[d] : 2 * reach + 1;
+    }
+    const Real radius2 = radius * radius;
+    for (int oy = 0; oy < count[1]; ++oy)
+      for (int ox = 0; ox < count[0]; ++ox) {
+        const int cx = ((first[0] + ox) % n_[0] + n_[0]) % n_[0];
+        const int cy = ((first[1] + oy) % n_[1] + n_[1]) % n_[1];
+        const int k = cx + n_[0] * cy;
+        for (int s = cell_offset_(k); s < cell_offset_(k + 1); ++s) {
+          Vec<2, Real> dr{{x[0] - centers_(s, 0), x[1] - centers_(s, 1)}};
+          for (int d = 0; d < 2; ++d) dr[d] -= length_[d] * kmath::floor(dr[d] * inv_length_[d] + Real(0.5));
+          if (norm2(dr) < radius2) visit(x - dr);
+        }
+      }
+  }
+
   // Signed distance to the nearest obstacle's surface at x (any x: periodic images are taken), the
   // nearest surface point and the normal there, pointing out of the obstacle. Ties go to the obstacle
   // found first (inner rings first, cell order within a ring).
@@ -514,7 +549,11 @@ class Surfaces {
   explicit Surfaces(const ObstacleArray<Real, ExecSpace>& obstacles) : obstacles_(obstacles) {}
 
   int num_walls() const { return num_walls_; }
+  shape_view walls() const { return walls_; }
   const ObstacleArray<Real, ExecSpace>& obstacles() const { return obstacles_; }
+
+  // The form the surface-force loop calls (particle index unused here).
+  KOKKOS_INLINE_FUNCTION SurfacePoint<2, Real> nearest(int, const Vec<2, Real>& x) const { return nearest(x); }
 
   // The nearest surface at x: walls first, an obstacle only if strictly nearer.
   KOKKOS_INLINE_FUNCTION SurfacePoint<2, Real> nearest(const Vec<2, Real>& x) const {

@@ -52,16 +52,16 @@ TermList<Head, Tail...> make_term_list(const Head& head, const Tail&... tail) {
   return {head, make_term_list(tail...)};
 }
 
-template <class Real, class ExecSpace, class Terms>
+template <class Real, class ExecSpace, class Query, class Terms>
 struct SurfaceForceKernel {
   using vector_view = typename Particles<2, Real, ExecSpace>::vector_view;
 
-  Surfaces<Real, ExecSpace> surfaces;
+  Query surfaces;
   vector_view x, v, f;
   Terms terms;
 
   KOKKOS_INLINE_FUNCTION void operator()(int i, double& energy) const {
-    const SurfacePoint<2, Real> s = surfaces.nearest(Vec<2, Real>::load(x, i));
+    const SurfacePoint<2, Real> s = surfaces.nearest(i, Vec<2, Real>::load(x, i));
     Vec<2, Real> fi = Vec<2, Real>::zero();
     terms.evaluate(s, Vec<2, Real>::load(v, i), fi, energy);
     for (int d = 0; d < 2; ++d) f(i, d) += fi[d];
@@ -73,11 +73,15 @@ struct SurfaceForceKernel {
 // Adds the forces of `terms` on every particle of p to p.f and returns their total energy. `velocity`
 // is the velocity that velocity-dependent terms (drag) must see: the integrator's
 // velocity_for_forces(p) (p.v itself for λ = ½, see velocity_verlet.hpp).
-template <class Real, class ExecSpace, class... Terms>
-double accumulate_surface_forces(const Surfaces<Real, ExecSpace>& surfaces, const Particles<2, Real, ExecSpace>& p,
+//
+// `surfaces` is any query with KOKKOS_INLINE_FUNCTION nearest(int particle, Vec x): Surfaces (walls
+// and the obstacle grid) or BodySurfaces (walls and per-body obstacle candidates).
+template <class Query, class Real, class ExecSpace, class... Terms>
+double accumulate_surface_forces(const Query& surfaces, const Particles<2, Real, ExecSpace>& p,
                                  const typename Particles<2, Real, ExecSpace>::vector_view& velocity,
                                  const Terms&... terms) {
-  using Kernel = surface_force_detail::SurfaceForceKernel<Real, ExecSpace, surface_force_detail::TermList<Terms...>>;
+  using Kernel =
+      surface_force_detail::SurfaceForceKernel<Real, ExecSpace, Query, surface_force_detail::TermList<Terms...>>;
   const Kernel kernel{surfaces, p.x, velocity, p.f, surface_force_detail::make_term_list(terms...)};
   double energy = 0;
   Kokkos::parallel_reduce("mesoflow::surface_force::accumulate", Kokkos::RangePolicy<ExecSpace>(0, p.size()), kernel,

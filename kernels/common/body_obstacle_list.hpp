@@ -1,0 +1,202 @@
+// body_obstacle_list.hpp — for each body (a group of particles: a droplet's vertices), the
+// obstacles near it, so that each particle finds its nearest obstacle among a handful of
+// candidates instead of searching the obstacle grid: a Verlet list per body.
+//
+// At a build, body b gets a reference centre c_b (mean of its particles), its radius R_b (largest
+// distance of a particle from c_b), and the periodic images of every obstacle centre within
+// ρ_b = R_b + skin + D of c_b, D being a distance within which every point has an obstacle centre
+// (the cell width of a maximal Poisson-disk array). While every particle stays within R_b + skin
+// of c_b, its nearest centre is within D of it and so among the candidates. Queries check this
+// (the nearest candidate must be nearer than ρ_b − |x − c_b|) and fall back to the grid search
+// otherwise, so the result is always exact; `update()` rebuilds when some particle has left the
+// R_b + skin disk.
+#pragma once
+
+#include "kokkos_compat.hpp"
+#include "obstacle_array.hpp"
+#include "particles.hpp"
+#include "vec.hpp"
+
+#include <stdexcept>
+#include <string>
+
+namespace mesoflow {
+
+template <class Real, class ExecSpace = Kokkos::DefaultExecutionSpace>
+class BodyObstacleList {
+ public:
+  using int_view = Kokkos::View<int*, ExecSpace>;
+
+  // `body_offset`: body b owns particles [body_offset(b), body_offset(b+1)), e.g. dp::Polygons::offset.
+  BodyObstacleList(const ObstacleArray<Real, ExecSpace>& obstacles, const int_view& body_offset, Real skin)
+      : obstacles_(obstacles), body_offset_(body_offset), skin_(skin) {
+    if (!(skin > Real(0))) throw std::invalid_argument("body obstacle list: skin must be > 0, got " + std::to_string(skin));
+    const int nb = int(body_offset.extent(0)) - 1;
+    if (nb < 1) throw std::invalid_argument("body obstacle list: no bodies");
+    reference_ = Kokkos::View<Real* [3], ExecSpace>("mesoflow::body_obstacle_list::reference", nb);
+    count_ = int_view("mesoflow::body_obstacle_list::count", nb + 1);
+  }
+
+  // Rebuilds if some particle left its body's disk of radius R_b + skin (or before the first
+  // build); returns whether it did.
+  template <class PositionView>
+  bool update(const PositionView& x) {
+    if (builds_ > 0 && !needs_rebuild(x)) return false;
+    build(x);
+    return true;
+  }
+
+  template <class PositionView>
+  void build(const PositionView& x) {
+    const int nb = num_bodies();
+    const auto offset = body_offset_;
+    const auto reference = reference_;
+    const auto count = count_;
+    const auto obstacles = obstacles_;
+    const Real coverage = obstacles_.cell_width(), skin = skin_;
+    for (int d = 0; d < 2; ++d)
+      if (obstacles_.size() > 0 && obstacles_.box_length(d) < Real(2) * max_reach_bound(x))
+        throw std::invalid_argument("body obstacle list: a body's candidate disk is wider than half the box");
+    Kokkos::parallel_for(
+        "mesoflow::body_obstacle_list::reference", Kokkos::RangePolicy<ExecSpace>(0, nb), KOKKOS_LAMBDA(int b) {
+          const int begin = offset(b), end = offset(b + 1);
+          Real c[2] = {0, 0};
+          for (int i = begin; i < end; ++i)
+            for (int d = 0; d < 2; ++d) c[d] += x(i, d);
+          for (int d = 0; d < 2; ++d) c[d] /= Real(end - begin);
+          Real r2 = 0;
+          for (int i = begin; i < end; ++i) {
+            const Real dx = x(i, 0) - c[0], dy = x(i, 1) - c[1];
+            r2 = dx * dx + dy * dy > r2 ? dx * dx + dy * dy : r2;
+          }
+          reference(b, 0) = c[0];
+          reference(b, 1) = c[1];
+          reference(b, 2) = kmath::sqrt(r2);
+          int n = 0;
+          obstacles.for_each_within(Vec<2, Real>{{c[0], c[1]}}, reference(b, 2) + skin + coverage,
+                                    [&](const Vec<2, Real>&) { ++n; });
+          count(b + 1) = n;
+        });
+    Kokkos::parallel_scan(
+        "mesoflow::body_obstacle_list::offsets", Kokkos::RangePolicy<ExecSpace>(0, nb + 1),
+        KOKKOS_LAMBDA(int k, int& partial, bool final) {
+          partial += k == 0 ? 0 : count(k);
+          if (final) count(k) = partial;
+        });
+    int total = 0;  // the scan's last entry, read back as a reduction (one scalar per rebuild)
+    Kokkos::parallel_reduce(
+        "mesoflow::body_obstacle_list::total", Kokkos::RangePolicy<ExecSpace>(nb, nb + 1),
+        KOKKOS_LAMBDA(int k, int& acc) { acc += count(k); }, total);
+    if (int(candidates_.extent(0)) < total)
+      candidates_ = Kokkos::View<Real* [2], Kokkos::LayoutRight, ExecSpace>(
+          Kokkos::ViewAllocateWithoutInitializing("mesoflow::body_obstacle_list::candidates"), total + total / 4 + 1);
+    const auto candidates = candidates_;
+    Kokkos::parallel_for(
+        "mesoflow::body_obstacle_list::fill", Kokkos::RangePolicy<ExecSpace>(0, nb), KOKKOS_LAMBDA(int b) {
+          int slot = count(b);
+          const Vec<2, Real> c{{reference(b, 0), reference(b, 1)}};
+          obstacles.for_each_within(c, reference(b, 2) + skin + coverage, [&](const Vec<2, Real>& image) {
+            candidates(slot, 0) = image[0];
+            candidates(slot, 1) = image[1];
+            ++slot;
+          });
+        });
+    ++builds_;
+  }
+
+  // Nearest obstacle surface to x, a particle of body b: exact (see the file comment).
+  KOKKOS_INLINE_FUNCTION SurfacePoint<2, Real> nearest(int b, const Vec<2, Real>& x) const {
+    const Real cx = x[0] - reference_(b, 0), cy = x[1] - reference_(b, 1);
+    const Real trusted = reference_(b, 2) + skin_ + obstacles_.cell_width() - kmath::sqrt(cx * cx + cy * cy);
+    Real best_r2 = Kokkos::reduction_identity<Real>::min();
+    Vec<2, Real> best_dr = Vec<2, Real>::zero();
+    for (int k = count_(b); k < count_(b + 1); ++k) {
+      const Vec<2, Real> dr{{x[0] - candidates_(k, 0), x[1] - candidates_(k, 1)}};
+      const Real r2 = norm2(dr);
+      if (r2 < best_r2) {
+        best_r2 = r2;
+        best_dr = dr;
+      }
+    }
+    if (!(trusted > Real(0) && best_r2 <= trusted * trusted)) return obstacles_.nearest(x);
+    const Real rho = kmath::sqrt(best_r2);
+    const Vec<2, Real> outward = rho > Real(0) ? (Real(1) / rho) * best_dr : Vec<2, Real>{{Real(1), Real(0)}};
+    const Real distance = rho - obstacles_.radius();
+    return {distance, x - distance * outward, outward};
+  }
+
+  int num_bodies() const { return int(body_offset_.extent(0)) - 1; }
+  int num_builds() const { return builds_; }
+  const ObstacleArray<Real, ExecSpace>& obstacles() const { return obstacles_; }
+
+ private:
+  // Some particle of some body has left the disk of radius R_b + skin around c_b.
+  template <class PositionView>
+  bool needs_rebuild(const PositionView& x) const {
+    const auto offset = body_offset_;
+    const auto reference = reference_;
+    const Real skin = skin_;
+    int outside = 0;
+    Kokkos::parallel_reduce(
+        "mesoflow::body_obstacle_list::check", Kokkos::RangePolicy<ExecSpace>(0, num_bodies()),
+        KOKKOS_LAMBDA(int b, int& acc) {
+          const Real limit = reference(b, 2) + skin;
+          for (int i = offset(b); i < offset(b + 1); ++i) {
+            const Real dx = x(i, 0) - reference(b, 0), dy = x(i, 1) - reference(b, 1);
+            if (dx * dx + dy * dy > limit * limit) {
+              acc += 1;
+              break;
+            }
+          }
+        },
+        outside);
+    return outside > 0;
+  }
+
+  // Upper bound of every body's candidate radius, for the box-size check (host, at builds only).
+  template <class PositionView>
+  Real max_reach_bound(const PositionView& x) const {
+    const auto offset = body_offset_;
+    Real extent = 0;
+    Kokkos::parallel_reduce(
+        "mesoflow::body_obstacle_list::extent", Kokkos::RangePolicy<ExecSpace>(0, num_bodies()),
+        KOKKOS_LAMBDA(int b, Real& acc) {
+          Real lo[2] = {x(offset(b), 0), x(offset(b), 1)}, hi[2] = {lo[0], lo[1]};
+          for (int i = offset(b); i < offset(b + 1); ++i)
+            for (int d = 0; d < 2; ++d) {
+              lo[d] = x(i, d) < lo[d] ? x(i, d) : lo[d];
+              hi[d] = x(i, d) > hi[d] ? x(i, d) : hi[d];
+            }
+          const Real size = (hi[0] - lo[0]) + (hi[1] - lo[1]);
+          acc = size > acc ? size : acc;
+        },
+        Kokkos::Max<Real>(extent));
+    return extent + skin_ + obstacles_.cell_width();
+  }
+
+  ObstacleArray<Real, ExecSpace> obstacles_;
+  int_view body_offset_;
+  Real skin_;
+  Kokkos::View<Real* [3], ExecSpace> reference_;  // c_b (x, y) and R_b per body
+  int_view count_;                                 // CSR offsets of the candidates, per body
+  Kokkos::View<Real* [2], Kokkos::LayoutRight, ExecSpace> candidates_;
+  int builds_ = 0;
+};
+
+// Surface query for the surface-force loop: the walls of a scene and, through a BodyObstacleList,
+// the obstacles near each particle's body.
+template <class Real, class ExecSpace = Kokkos::DefaultExecutionSpace>
+struct BodySurfaces {
+  typename Surfaces<Real, ExecSpace>::shape_view walls;
+  int num_walls;
+  BodyObstacleList<Real, ExecSpace> obstacles;
+  Kokkos::View<int*, ExecSpace> body;  // body of each particle
+
+  KOKKOS_INLINE_FUNCTION SurfacePoint<2, Real> nearest(int i, const Vec<2, Real>& x) const {
+    const SurfacePoint<2, Real> wall = nearest_surface(walls.data(), num_walls, x);
+    const SurfacePoint<2, Real> obstacle = obstacles.nearest(body(i), x);
+    return obstacle.distance < wall.distance ? obstacle : wall;
+  }
+};
+
+}  // namespace mesoflow
