@@ -81,14 +81,16 @@ class DropletScene {
     gravity_ = Vec<2, Real>{{Real(std::cos(angle)), Real(std::sin(angle))}};
   }
 
-  // Removes overlaps with walls and obstacles by FIRE without gravity or drag (§2.4).
-  FireResult relax(int max_iterations = 20000) {
+  // Minimizes the potential energy by FIRE, without drag: without gravity it removes overlaps
+  // with walls and obstacles before a run (§2.4); with gravity it finds a droplet's resting shape
+  // (the deformation δ_s of Fig. 7b).
+  FireResult relax(int max_iterations = 20000, bool with_gravity = false, double force_tolerance = 1e-6) {
     FireParameters fire;
     fire.dt_start = par_.dt;
     fire.dt_max = 10 * par_.dt;
     fire.max_iterations = max_iterations;
-    fire.force_tolerance = 1e-6;
-    return fire_minimize(p_, [&] { return conservative_forces(false); }, fire);
+    fire.force_tolerance = force_tolerance;
+    return fire_minimize(p_, [&] { return conservative_forces(with_gravity); }, fire);
   }
 
   // One modified velocity-Verlet step (kernels/common/velocity_verlet.hpp) with gravity and drag.

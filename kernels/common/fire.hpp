@@ -8,7 +8,9 @@
 //   P ≤ 0: Δt ← f_dec Δt, α ← α_start, v ← 0
 //   MD step (semi-implicit Euler, as recommended by Guénolé et al., Comput. Mater. Sci. 175,
 //   109584 (2020)):  v ← v + Δt F/m,  x ← x + Δt v;  then F is recomputed.
-// Converged when the largest per-particle force norm drops below the tolerance.
+// Converged when the largest per-particle force norm drops below the tolerance. Non-finite forces
+// or velocities (a step beyond the stability limit of the stiffest term) throw instead of passing
+// for zero force.
 // One fused reduction per iteration gives P, |v|², |F|² and max|F_i|.
 #pragma once
 
@@ -103,6 +105,10 @@ FireResult fire_minimize(const Particles<D, Real, ExecSpace>& p, ForceFunction&&
   for (result.iterations = 0;; ++result.iterations) {
     detail::FirePowers s;
     Kokkos::parallel_reduce("mesoflow::fire::powers", Kokkos::RangePolicy<ExecSpace>(0, n), Functor{v, f}, s);
+    if (!std::isfinite(s.power) || !std::isfinite(s.v2) || !std::isfinite(s.f2))
+      throw std::runtime_error("fire_minimize: non-finite forces or velocities at iteration " +
+                               std::to_string(result.iterations) + " (dt_max " + std::to_string(params.dt_max) +
+                               " too large for the stiffest term?)");
     result.max_force = kmath::sqrt(s.max_f2);
     if (result.max_force < params.force_tolerance) {
       result.converged = true;

@@ -208,6 +208,32 @@ TYPED_TEST(IntegratorTest, FireReachesZeroForceInHarmonicWells) {
     for (int d = 0; d < 3; ++d) EXPECT_NEAR(double(x(i, d)), double(c(i, d)), params.force_tolerance);
 }
 
+// A force that becomes NaN must stop FIRE with an error, never read as "zero force, converged".
+template <class Real, class Exec>
+double nan_after_first_call(const Particles<2, Real, Exec>& p, int& calls) {
+  const auto f = p.f;
+  const Real value = calls++ == 0 ? Real(1) : Real(NAN);
+  Kokkos::parallel_for(
+      Kokkos::RangePolicy<Exec>(0, p.size()), KOKKOS_LAMBDA(int i) {
+        for (int d = 0; d < 2; ++d) f(i, d) = value;
+      });
+  return 0.0;
+}
+
+TYPED_TEST(IntegratorTest, FireStopsOnNonFiniteForces) {
+  using Real = typename TypeParam::real;
+  using Exec = typename TypeParam::exec;
+  Particles<2, Real, Exec> p(8);
+  int calls = 0;
+  FireParameters params;
+  try {
+    fire_minimize(p, [&] { return nan_after_first_call(p, calls); }, params);
+    FAIL() << "expected std::runtime_error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("non-finite"), std::string::npos) << e.what();
+  }
+}
+
 TYPED_TEST(IntegratorTest, FireFindsTheLennardJonesTrimerMinimum) {
   using Real = typename TypeParam::real;
   using Exec = typename TypeParam::exec;
