@@ -6,6 +6,7 @@
 // particle-updates/s for the triad.
 #include <benchmark/benchmark.h>
 
+#include "kernels/common/langevin.hpp"
 #include "kernels/common/lennard_jones.hpp"
 #include "kernels/common/neighbor_list.hpp"
 #include "kernels/common/pair_force.hpp"
@@ -113,6 +114,16 @@ void BM_PairForceLJ(benchmark::State& state) {
   state.SetItemsProcessed(state.iterations() * list.num_entries());
 }
 
+// Langevin thermostat forces (one Philox stream per particle): particle-updates/s.
+void BM_LangevinForces(benchmark::State& state) {
+  const int n = int(state.range(0));
+  Particles<3, double, Exec> p(n);
+  const LangevinThermostat<double> thermostat(1.0, 1.0, 1);
+  std::int64_t step = 0;
+  timed(state, [&] { thermostat.accumulate(p, p.v, 0.005, step++); });
+  state.SetItemsProcessed(state.iterations() * n);
+}
+
 // Reference kernel: x ← x + dt·v over the same SoA storage (memory-bound, ~48 bytes per particle).
 void BM_ReferenceTriad(benchmark::State& state) {
   const int n = int(state.range(0));
@@ -131,6 +142,7 @@ constexpr auto full = NeighborListKind::full;
 constexpr auto half = NeighborListKind::half;
 
 BENCHMARK(BM_ReferenceTriad)->Arg(1 << 20)->UseManualTime()->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_LangevinForces)->Arg(1 << 20)->UseManualTime()->Unit(benchmark::kMillisecond);
 BENCHMARK_TEMPLATE(BM_CellBinning, 3, double)->Arg(1000000)->UseManualTime()->Unit(benchmark::kMillisecond);
 BENCHMARK_TEMPLATE(BM_CellBinning, 2, double)->Arg(1000000)->UseManualTime()->Unit(benchmark::kMillisecond);
 // Arguments: particles; cells per reach (1: 27 cells, 2: 125 cells of half the width);

@@ -45,6 +45,26 @@ struct DropletParameters {
   double drag_exponent = 4.0 / 3.0;  // α, eq. 6
   double dt = 1e-3;               // Δt/t0
   bool drag = true;               // background-fluid drag (eqs. 5–6); off only to check energy conservation
+
+  // Throws std::invalid_argument naming the first parameter outside its range.
+  void validate() const {
+    auto require = [](bool ok, const char* name, const char* range, double value) {
+      if (!ok)
+        throw std::invalid_argument(std::string("droplet scene: ") + name + " must be " + range + ", got " +
+                                    std::to_string(value));
+    };
+    auto finite_nonnegative = [](double v) { return std::isfinite(v) && v >= 0; };
+    require(vertices >= 3, "vertices N_v", ">= 3", vertices);
+    require(finite_nonnegative(line_tension), "line tension Γ", "finite and >= 0", line_tension);
+    require(finite_nonnegative(area_stiffness), "area stiffness K_a", "finite and >= 0", area_stiffness);
+    require(finite_nonnegative(perimeter_stiffness), "perimeter stiffness K_l", "finite and >= 0", perimeter_stiffness);
+    require(finite_nonnegative(wall_energy), "wall energy E_w", "finite and >= 0", wall_energy);
+    require(finite_nonnegative(near_wall_drag), "near-wall drag b0/b∞", "finite and >= 0", near_wall_drag);
+    require(std::isfinite(terminal_speed) && terminal_speed > 0, "terminal speed V_t", "finite and > 0", terminal_speed);
+    require(std::isfinite(drag_exponent) && drag_exponent > 0, "drag exponent α", "finite and > 0", drag_exponent);
+    require(std::isfinite(dt) && dt > 0, "time step dt", "finite and > 0", dt);
+    require(gravity_angle >= -360 && gravity_angle <= 360, "gravity angle", "in [-360, 360] degrees", gravity_angle);
+  }
   double gravity_angle = -90.0;   // direction of g in degrees from +x (−90: along −y)
 };
 
@@ -59,7 +79,7 @@ class DropletScene {
   // `centres`: one droplet per entry, placed as a regular polygon of area a0 (§2.4).
   DropletScene(const DropletParameters& par, const Surfaces<Real, ExecSpace>& surfaces,
                const std::vector<Vec<2, double>>& centres)
-      : par_(par),
+      : par_((par.validate(), par)),
         polygons_(dp::Polygons<Real, ExecSpace>::uniform(int(centres.size()), par.vertices, Real(droplet_area),
                                                          Real(dp::regular_polygon_edge(droplet_area, par.vertices)))),
         state_(int(centres.size())),
@@ -69,7 +89,6 @@ class DropletScene {
         l0_(dp::regular_polygon_edge(droplet_area, par.vertices)),
         b_inf_(droplet_mass / par.terminal_speed) {
     if (centres.empty()) throw std::invalid_argument("droplet scene: no droplets");
-    if (par.vertices < 3) throw std::invalid_argument("droplet scene: vertices must be >= 3");
     dp::assign_bodies(polygons_, p_);
     auto x = Kokkos::create_mirror_view(p_.x);
     for (std::size_t b = 0; b < centres.size(); ++b) dp::place_regular_polygon(polygons_, int(b), x, centres[b]);

@@ -130,5 +130,25 @@ TEST(DropletScene, ReplicasEvolveIndependently) {
   EXPECT_EQ(a.area[0], b.area[1]);
 }
 
+TEST(DropletScene, RejectsBadParametersNamingThem) {
+  auto message = [](DropletParameters par) {
+    try {
+      DropletScene<double, Exec> scene(par, no_surfaces(), {Vec<2, double>{{0.0, 0.0}}});
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  DropletParameters par = free_droplet(32, 0.16);
+  par.terminal_speed = 0;
+  EXPECT_NE(message(par).find("terminal speed"), std::string::npos) << message(par);
+  par = free_droplet(32, 0.16);
+  par.dt = -1;
+  EXPECT_NE(message(par).find("dt"), std::string::npos) << message(par);
+  par = free_droplet(32, 0.16);
+  par.line_tension = NAN;
+  EXPECT_NE(message(par), "no error");
+}
+
 }  // namespace
 }  // namespace mesoflow::droplets
