@@ -34,7 +34,6 @@ template <class Real>
 void BM_DropletsInObstacleArray(benchmark::State& state) {
   const int replicas = int(state.range(0));
   DropletParameters par;
-  par.wall_energy = 0.1;
   const double L = 20.0 * std::ceil(std::sqrt(double(replicas)));
   std::vector<Vec<2, double>> centres;
   const int per_row = int(std::ceil(std::sqrt(double(replicas))));

@@ -1,0 +1,82 @@
+// stability.hpp — the explicit time-step limit of a deformable-polygon droplet, term by term.
+//
+// Velocity Verlet is stable for a harmonic mode of angular frequency ω while ω Δt < 2; contacts
+// are nonlinear and several stiff terms act on the same vertices, so the estimate sums the squared
+// frequencies of the stiffest mode of every term (an upper bound of the largest eigenvalue of the
+// sum of positive semi-definite Hessians) and asks ω Δt ≤ 1. Each vertex has mass m = M/N_v.
+//   wall/obstacle repulsion (capillary eq. 3): ∂²U/∂d² = 4ε_w/δ²        ⇒ ω² = 4ε_w/(δ² m)
+//   line tension γP (eq. 2): a chain under tension γ, spacing l0          ⇒ ω² = 4γ/(l0 m)
+//   segment springs k_l N_v (eq. 1): a chain of springs k_l N_v           ⇒ ω² = 4 k_l N_v/m
+//   area elasticity k_a (eq. 1): rank one, k_a |∇a|², |∇a|² = Σ l_i² ≈ P l0 ⇒ ω² = k_a P l0/m
+//   bending k_b (hopper eq. 8): highest mode of a discrete curvature chain ⇒ ω² = 16 k_b/(l0² m)
+// Drag is first order: a vertex relaxes at the rate ν = ζ_i/(N_v m) = ζ_i/M (eqs. 5–6), largest
+// at the distance floor of the near-wall term, and explicit drag wants ν Δt ≤ 1.
+// DropletScene refuses a Δt above the limit and chooses min(10⁻³ t0, limit) when none is given;
+// tests/dp/test_stability.cpp checks that a run at the limit stays bounded where the paper's
+// parameters would blow up.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+namespace mesoflow::dp {
+
+struct StiffnessInputs {
+  double vertex_mass;        // m = M/N_v
+  double edge_length;        // l0
+  double perimeter;          // P ≈ N_v l0
+  double vertices;           // N_v
+  double wall_energy;        // ε_w (0 without walls or obstacles)
+  double vertex_diameter;    // δ
+  double line_tension;       // γ
+  double perimeter_stiffness;  // k_l
+  double area_stiffness;     // k_a
+  double bending_stiffness;  // k_b
+  double max_drag;           // largest ζ_i (eq. 6 at the distance floor); M = N_v m
+};
+
+struct StabilityLimit {
+  double omega_wall = 0, omega_line_tension = 0, omega_springs = 0, omega_area = 0, omega_bending = 0;
+  double drag_rate = 0;  // ν = ζ_max / M
+  double omega() const {
+    return std::sqrt(omega_wall * omega_wall + omega_line_tension * omega_line_tension + omega_springs * omega_springs +
+                     omega_area * omega_area + omega_bending * omega_bending);
+  }
+  // Largest Δt with ω Δt ≤ 1 and ν Δt ≤ 1 (infinite for a force-free scene).
+  double max_dt() const {
+    const double w = omega();
+    const double by_modes = w > 0 ? 1.0 / w : HUGE_VAL;
+    const double by_drag = drag_rate > 0 ? 1.0 / drag_rate : HUGE_VAL;
+    return std::min(by_modes, by_drag);
+  }
+  // The term that sets the limit, for error messages.
+  std::string limiting_term() const {
+    if (drag_rate > omega()) return "near-wall drag (rate " + std::to_string(drag_rate) + "/t0)";
+    const struct {
+      double w;
+      const char* name;
+    } terms[] = {{omega_wall, "wall repulsion E_w"},
+                 {omega_line_tension, "line tension Γ"},
+                 {omega_springs, "perimeter elasticity K_l"},
+                 {omega_area, "area elasticity K_a"},
+                 {omega_bending, "bending K_b"}};
+    const auto* top = std::max_element(std::begin(terms), std::end(terms),
+                                       [](const auto& a, const auto& b) { return a.w < b.w; });
+    return std::string(top->name) + " (ω = " + std::to_string(top->w) + "/t0)";
+  }
+};
+
+inline StabilityLimit stability_limit(const StiffnessInputs& s) {
+  StabilityLimit r;
+  const double m = s.vertex_mass;
+  r.omega_wall = std::sqrt(4 * s.wall_energy / (s.vertex_diameter * s.vertex_diameter * m));
+  r.omega_line_tension = std::sqrt(4 * s.line_tension / (s.edge_length * m));
+  r.omega_springs = std::sqrt(4 * s.perimeter_stiffness * s.vertices / m);
+  r.omega_area = std::sqrt(s.area_stiffness * s.perimeter * s.edge_length / m);
+  r.omega_bending = std::sqrt(16 * s.bending_stiffness / (s.edge_length * s.edge_length * m));
+  r.drag_rate = s.max_drag / (s.vertices * m);
+  return r;
+}
+
+}  // namespace mesoflow::dp
