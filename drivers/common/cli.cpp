@@ -1,6 +1,7 @@
 // cli.cpp — DriverApp: parsing, validation, config files, --dry-run and the --output check.
 #include "drivers/common/cli.hpp"
 
+#include <stdexcept>
 #include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -12,6 +13,7 @@
 #include <cmath>
 #include <filesystem>
 #include <sstream>
+#include <stdexcept>
 #include <string_view>
 #include <system_error>
 
@@ -238,6 +240,8 @@ int usage_error(std::ostream& err, const std::string& message) {
 int run_body(const std::function<void()>& body, std::ostream& err) {
   try {
     body();
+  } catch (const std::invalid_argument& e) {  // parameters the option ranges alone cannot judge
+    return usage_error(err, e.what());
   } catch (const std::exception& e) {
     err << "error: " << e.what() << '\n';
     return exit_code::failure;

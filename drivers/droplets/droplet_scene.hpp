@@ -8,7 +8,9 @@
 // follows from the terminal speed, V_t = Mg/(b∞√(σg)) (eq. 15) ⇒ b∞ = M / V_t.
 //
 // Many droplets ("replicas") can share one scene: their vertices are one particle set and every
-// kernel runs over all of them at once. Droplets do not interact with each other.
+// kernel runs over all of them at once. Droplets do not interact with each other. With a multi-array
+// ObstacleArray each droplet can have its own obstacle array (an ensemble over random arrays); every
+// droplet then evolves bitwise as it would alone in a scene of its array.
 #pragma once
 
 #include "kernels/common/body_obstacle_list.hpp"
@@ -122,6 +124,11 @@ class DropletScene {
   // `centres`: one droplet per entry, placed as a regular polygon of area a0 (§2.4).
   DropletScene(const DropletParameters& par, const Surfaces<Real, ExecSpace>& surfaces,
                const std::vector<Vec<2, double>>& centres)
+      : DropletScene(par, surfaces, centres, std::vector<int>(centres.size(), 0)) {}
+
+  // As above, droplet b in obstacle array droplet_array[b] of surfaces.obstacles().
+  DropletScene(const DropletParameters& par, const Surfaces<Real, ExecSpace>& surfaces,
+               const std::vector<Vec<2, double>>& centres, const std::vector<int>& droplet_array)
       : par_((par.validate(), par)),
         dt_(resolve_time_step(par, surfaces.num_walls() > 0 || surfaces.obstacles().size() > 0)),
         polygons_(dp::Polygons<Real, ExecSpace>::uniform(int(centres.size()), par.vertices, Real(droplet_area),
@@ -133,13 +140,25 @@ class DropletScene {
         l0_(dp::regular_polygon_edge(droplet_area, par.vertices)),
         b_inf_(droplet_mass / par.terminal_speed) {
     if (centres.empty()) throw std::invalid_argument("droplet scene: no droplets");
+    if (droplet_array.size() != centres.size())
+      throw std::invalid_argument("droplet scene: " + std::to_string(droplet_array.size()) + " obstacle arrays for " +
+                                  std::to_string(centres.size()) + " droplets");
+    for (const int a : droplet_array)
+      if (a < 0 || a >= surfaces.obstacles().num_arrays())
+        throw std::invalid_argument("droplet scene: obstacle array " + std::to_string(a) + " outside [0, " +
+                                    std::to_string(surfaces.obstacles().num_arrays()) + ")");
     dp::assign_bodies(polygons_, p_);
     auto x = Kokkos::create_mirror_view(p_.x);
     for (std::size_t b = 0; b < centres.size(); ++b) dp::place_regular_polygon(polygons_, int(b), x, centres[b]);
     Kokkos::deep_copy(p_.x, x);
     Kokkos::deep_copy(p_.mass, Real(droplet_mass / par.vertices));
-    if (surfaces.obstacles().size() > 0)
-      candidates_.emplace(surfaces.obstacles(), polygons_.offset, Real(candidate_skin));
+    if (surfaces.obstacles().size() > 0) {
+      Kokkos::View<int*, ExecSpace> body_array("mesoflow::droplet_scene::droplet_array", centres.size());
+      const auto body_array_host = Kokkos::create_mirror_view(body_array);
+      for (std::size_t b = 0; b < centres.size(); ++b) body_array_host(b) = droplet_array[b];
+      Kokkos::deep_copy(body_array, body_array_host);
+      candidates_.emplace(surfaces.obstacles(), polygons_.offset, body_array, Real(candidate_skin));
+    }
     const double angle = par.gravity_angle * dp::pi / 180.0;
     gravity_ = Vec<2, Real>{{Real(std::cos(angle)), Real(std::sin(angle))}};
   }
@@ -161,7 +180,7 @@ class DropletScene {
   void step() {
     vv_.first_half(p_);
     shape_forces(true);
-    if (par_.drag)  // one surface query per vertex serves repulsion and drag
+    if (par_.drag)  // one pass over the surfaces near each vertex serves repulsion (summed) and drag (nearest)
       with_surfaces([&](const auto& q) { accumulate_surface_forces(q, p_, vv_.velocity_for_forces(p_), repulsion(), drag()); });
     else if (has_surfaces())
       with_surfaces([&](const auto& q) { accumulate_surface_forces(q, p_, p_.v, repulsion()); });
@@ -182,6 +201,40 @@ class DropletScene {
   dp::BodyObservables observables() {
     dp::update_body_state(polygons_, p_, state_);
     return dp::body_observables(state_);
+  }
+
+  // Per-droplet state (area, centre of mass, kinetic energy...) at the current positions and
+  // velocities, left on the device for kernels (clog detection).
+  const dp::BodyState<Real, ExecSpace>& update_body_state() {
+    dp::update_body_state(polygons_, p_, state_);
+    return state_;
+  }
+
+  // Droplet b's vertex positions (host copy, for setup: moving relaxed droplets between scenes).
+  std::vector<Vec<2, double>> droplet_vertices(int b) const {
+    const auto x = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), p_.x);
+    std::vector<Vec<2, double>> out;
+    for (int i = polygons_.first_vertex(b); i < polygons_.first_vertex(b) + polygons_.num_vertices(b); ++i)
+      out.push_back(Vec<2, double>{{double(x(i, 0)), double(x(i, 1))}});
+    return out;
+  }
+
+  // Moves droplet b's vertices to `vertices` (N_v of them) at rest; setup only.
+  void place_droplet(int b, const std::vector<Vec<2, double>>& vertices) {
+    if (int(vertices.size()) != polygons_.num_vertices(b))
+      throw std::invalid_argument("droplet scene: " + std::to_string(vertices.size()) + " vertices for droplet " +
+                                  std::to_string(b) + " of " + std::to_string(polygons_.num_vertices(b)));
+    const auto x = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), p_.x);
+    const auto v = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), p_.v);
+    for (int k = 0; k < polygons_.num_vertices(b); ++k) {
+      const int i = polygons_.first_vertex(b) + k;
+      for (int d = 0; d < 2; ++d) {
+        x(i, d) = Real(vertices[std::size_t(k)][d]);
+        v(i, d) = Real(0);
+      }
+    }
+    Kokkos::deep_copy(p_.x, x);
+    Kokkos::deep_copy(p_.v, v);
   }
 
   const particles_type& particles() const { return p_; }

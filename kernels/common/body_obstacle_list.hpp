@@ -10,6 +10,11 @@
 // (the nearest candidate must be nearer than ρ_b − |x − c_b|) and fall back to the grid search
 // otherwise, so the result is always exact; `update()` rebuilds when some particle has left the
 // R_b + skin disk.
+//
+// Each body may live in its own obstacle array of a multi-array ObstacleArray (`body_array`: one
+// replica of an ensemble per array); its candidates and fallback come from that array only. An
+// update moves the reference disks of the bodies that left theirs and keeps the others, so a body's
+// candidates (and hence its forces, to the bit) never depend on what the other bodies do.
 #pragma once
 
 #include "kokkos_compat.hpp"
@@ -28,30 +33,66 @@ class BodyObstacleList {
   using int_view = Kokkos::View<int*, ExecSpace>;
 
   // `body_offset`: body b owns particles [body_offset(b), body_offset(b+1)), e.g. dp::Polygons::offset.
+  // Every body in array 0.
   BodyObstacleList(const ObstacleArray<Real, ExecSpace>& obstacles, const int_view& body_offset, Real skin)
-      : obstacles_(obstacles), body_offset_(body_offset), skin_(skin) {
+      : BodyObstacleList(obstacles, body_offset, int_view("mesoflow::body_obstacle_list::body_array",
+                                                          body_offset.extent(0) > 0 ? body_offset.extent(0) - 1 : 0),
+                         skin) {}
+
+  // `body_array`: the obstacle array of each body, in [0, obstacles.num_arrays()).
+  BodyObstacleList(const ObstacleArray<Real, ExecSpace>& obstacles, const int_view& body_offset,
+                   const int_view& body_array, Real skin)
+      : obstacles_(obstacles), body_offset_(body_offset), body_array_(body_array), skin_(skin) {
     if (!(skin > Real(0))) throw std::invalid_argument("body obstacle list: skin must be > 0, got " + std::to_string(skin));
     const int nb = int(body_offset.extent(0)) - 1;
     if (nb < 1) throw std::invalid_argument("body obstacle list: no bodies");
+    if (int(body_array.extent(0)) != nb)
+      throw std::invalid_argument("body obstacle list: " + std::to_string(body_array.extent(0)) +
+                                  " body arrays for " + std::to_string(nb) + " bodies");
+    const int num_arrays = obstacles.num_arrays();
+    int bad = 0;
+    Kokkos::parallel_reduce(
+        "mesoflow::body_obstacle_list::check_arrays", Kokkos::RangePolicy<ExecSpace>(0, nb),
+        KOKKOS_LAMBDA(int b, int& acc) { acc += body_array(b) < 0 || body_array(b) >= num_arrays ? 1 : 0; }, bad);
+    if (bad > 0)
+      throw std::invalid_argument("body obstacle list: a body's obstacle array is outside [0, " +
+                                  std::to_string(num_arrays) + ")");
     reference_ = Kokkos::View<Real* [3], ExecSpace>("mesoflow::body_obstacle_list::reference", nb);
     count_ = int_view("mesoflow::body_obstacle_list::count", nb + 1);
+    stale_ = int_view("mesoflow::body_obstacle_list::stale", nb);
   }
 
   // Rebuilds if some particle left its body's disk of radius R_b + skin (or before the first
   // build); returns whether it did.
   template <class PositionView>
   bool update(const PositionView& x) {
-    if (builds_ > 0 && !needs_rebuild(x)) return false;
-    build(x);
+    if (builds_ == 0) {
+      build(x);
+      return true;
+    }
+    if (!mark_stale(x)) return false;
+    rebuild(x);
     return true;
   }
 
+  // Moves every body's reference disk to its current particles and rebuilds.
   template <class PositionView>
   void build(const PositionView& x) {
+    Kokkos::deep_copy(stale_, 1);
+    rebuild(x);
+  }
+
+ private:
+  // Moves the reference disks of the stale bodies, then recounts and refills every body's candidates
+  // (those of the other bodies come out identical: same disk, same array, same order).
+  template <class PositionView>
+  void rebuild(const PositionView& x) {
     const int nb = num_bodies();
     const auto offset = body_offset_;
     const auto reference = reference_;
     const auto count = count_;
+    const auto stale = stale_;
+    const auto body_array = body_array_;
     const auto obstacles = obstacles_;
     const Real coverage = obstacles_.cell_width(), skin = skin_;
     for (int d = 0; d < 2; ++d)
@@ -59,22 +100,25 @@ class BodyObstacleList {
         throw std::invalid_argument("body obstacle list: a body's candidate disk is wider than half the box");
     Kokkos::parallel_for(
         "mesoflow::body_obstacle_list::reference", Kokkos::RangePolicy<ExecSpace>(0, nb), KOKKOS_LAMBDA(int b) {
-          const int begin = offset(b), end = offset(b + 1);
-          Real c[2] = {0, 0};
-          for (int i = begin; i < end; ++i)
-            for (int d = 0; d < 2; ++d) c[d] += x(i, d);
-          for (int d = 0; d < 2; ++d) c[d] /= Real(end - begin);
-          Real r2 = 0;
-          for (int i = begin; i < end; ++i) {
-            const Real dx = x(i, 0) - c[0], dy = x(i, 1) - c[1];
-            r2 = dx * dx + dy * dy > r2 ? dx * dx + dy * dy : r2;
+          if (stale(b)) {
+            const int begin = offset(b), end = offset(b + 1);
+            Real c[2] = {0, 0};
+            for (int i = begin; i < end; ++i)
+              for (int d = 0; d < 2; ++d) c[d] += x(i, d);
+            for (int d = 0; d < 2; ++d) c[d] /= Real(end - begin);
+            Real r2 = 0;
+            for (int i = begin; i < end; ++i) {
+              const Real dx = x(i, 0) - c[0], dy = x(i, 1) - c[1];
+              r2 = dx * dx + dy * dy > r2 ? dx * dx + dy * dy : r2;
+            }
+            reference(b, 0) = c[0];
+            reference(b, 1) = c[1];
+            reference(b, 2) = kmath::sqrt(r2);
+            stale(b) = 0;
           }
-          reference(b, 0) = c[0];
-          reference(b, 1) = c[1];
-          reference(b, 2) = kmath::sqrt(r2);
           int n = 0;
-          obstacles.for_each_within(Vec<2, Real>{{c[0], c[1]}}, reference(b, 2) + skin + coverage,
-                                    [&](const Vec<2, Real>&) { ++n; });
+          obstacles.for_each_within(body_array(b), Vec<2, Real>{{reference(b, 0), reference(b, 1)}},
+                                    reference(b, 2) + skin + coverage, [&](const Vec<2, Real>&) { ++n; });
           count(b + 1) = n;
         });
     Kokkos::parallel_scan(
@@ -95,7 +139,7 @@ class BodyObstacleList {
         "mesoflow::body_obstacle_list::fill", Kokkos::RangePolicy<ExecSpace>(0, nb), KOKKOS_LAMBDA(int b) {
           int slot = count(b);
           const Vec<2, Real> c{{reference(b, 0), reference(b, 1)}};
-          obstacles.for_each_within(c, reference(b, 2) + skin + coverage, [&](const Vec<2, Real>& image) {
+          obstacles.for_each_within(body_array(b), c, reference(b, 2) + skin + coverage, [&](const Vec<2, Real>& image) {
             candidates(slot, 0) = image[0];
             candidates(slot, 1) = image[1];
             ++slot;
@@ -104,6 +148,7 @@ class BodyObstacleList {
     ++builds_;
   }
 
+ public:
   // Nearest obstacle surface to x, a particle of body b: exact (see the file comment).
   KOKKOS_INLINE_FUNCTION SurfacePoint<2, Real> nearest(int b, const Vec<2, Real>& x) const {
     const Real cx = x[0] - reference_(b, 0), cy = x[1] - reference_(b, 1);
@@ -118,7 +163,39 @@ class BodyObstacleList {
         best_dr = dr;
       }
     }
-    if (!(trusted > Real(0) && best_r2 <= trusted * trusted)) return obstacles_.nearest(x);
+    if (!(trusted > Real(0) && best_r2 <= trusted * trusted)) return obstacles_.nearest(body_array_(b), x);
+    const Real rho = kmath::sqrt(best_r2);
+    const Vec<2, Real> outward = rho > Real(0) ? (Real(1) / rho) * best_dr : Vec<2, Real>{{Real(1), Real(0)}};
+    const Real distance = rho - obstacles_.radius();
+    return {distance, x - distance * outward, outward};
+  }
+
+  // nearest(b, x), also calling visit(s) for the surface s of every obstacle at signed distance
+  // < reach from x, exact like nearest: one pass over the candidates when every obstacle centre
+  // within max(nearest, radius + reach) of x is certainly a candidate, the grid otherwise.
+  template <class Visit>
+  KOKKOS_INLINE_FUNCTION SurfacePoint<2, Real> nearest_within(int b, const Vec<2, Real>& x, Real reach,
+                                                              Visit&& visit) const {
+    const Real cx = x[0] - reference_(b, 0), cy = x[1] - reference_(b, 1);
+    const Real trusted = reference_(b, 2) + skin_ + obstacles_.cell_width() - kmath::sqrt(cx * cx + cy * cy);
+    const Real contact = obstacles_.radius() + reach;  // centre distance below which visit is called
+    if (!(trusted >= contact)) return obstacles_.nearest_within(body_array_(b), x, reach, visit);
+    const Real contact2 = contact * contact;
+    Real best_r2 = Kokkos::reduction_identity<Real>::min();
+    Vec<2, Real> best_dr = Vec<2, Real>::zero();
+    for (int k = count_(b); k < count_(b + 1); ++k) {
+      const Vec<2, Real> dr{{x[0] - candidates_(k, 0), x[1] - candidates_(k, 1)}};
+      const Real r2 = norm2(dr);
+      if (r2 < best_r2) {
+        best_r2 = r2;
+        best_dr = dr;
+      }
+      if (r2 < contact2) {
+        const SurfacePoint<2, Real> s = obstacles_.surface_of(x, dr);
+        if (s.distance < reach) visit(s);
+      }
+    }
+    if (!(best_r2 <= trusted * trusted)) return obstacles_.nearest(body_array_(b), x);
     const Real rho = kmath::sqrt(best_r2);
     const Vec<2, Real> outward = rho > Real(0) ? (Real(1) / rho) * best_dr : Vec<2, Real>{{Real(1), Real(0)}};
     const Real distance = rho - obstacles_.radius();
@@ -128,26 +205,32 @@ class BodyObstacleList {
   int num_bodies() const { return int(body_offset_.extent(0)) - 1; }
   int num_builds() const { return builds_; }
   const ObstacleArray<Real, ExecSpace>& obstacles() const { return obstacles_; }
+  const int_view& body_array() const { return body_array_; }
 
  private:
-  // Some particle of some body has left the disk of radius R_b + skin around c_b.
+  // Marks the bodies some particle of which has left the disk of radius R_b + skin around c_b;
+  // returns whether there is one.
   template <class PositionView>
-  bool needs_rebuild(const PositionView& x) const {
+  bool mark_stale(const PositionView& x) const {
     const auto offset = body_offset_;
     const auto reference = reference_;
+    const auto stale = stale_;
     const Real skin = skin_;
     int outside = 0;
     Kokkos::parallel_reduce(
         "mesoflow::body_obstacle_list::check", Kokkos::RangePolicy<ExecSpace>(0, num_bodies()),
         KOKKOS_LAMBDA(int b, int& acc) {
           const Real limit = reference(b, 2) + skin;
+          int left = 0;
           for (int i = offset(b); i < offset(b + 1); ++i) {
             const Real dx = x(i, 0) - reference(b, 0), dy = x(i, 1) - reference(b, 1);
             if (dx * dx + dy * dy > limit * limit) {
-              acc += 1;
+              left = 1;
               break;
             }
           }
+          stale(b) = left;
+          acc += left;
         },
         outside);
     return outside > 0;
@@ -176,9 +259,11 @@ class BodyObstacleList {
 
   ObstacleArray<Real, ExecSpace> obstacles_;
   int_view body_offset_;
+  int_view body_array_;  // obstacle array of each body
   Real skin_;
   Kokkos::View<Real* [3], ExecSpace> reference_;  // c_b (x, y) and R_b per body
   int_view count_;                                 // CSR offsets of the candidates, per body
+  int_view stale_;                                 // 1: the body's reference disk moves at the next rebuild
   Kokkos::View<Real* [2], Kokkos::LayoutRight, ExecSpace> candidates_;
   int builds_ = 0;
 };
@@ -195,6 +280,15 @@ struct BodySurfaces {
   KOKKOS_INLINE_FUNCTION SurfacePoint<2, Real> nearest(int i, const Vec<2, Real>& x) const {
     const SurfacePoint<2, Real> wall = nearest_surface(walls.data(), num_walls, x);
     const SurfacePoint<2, Real> obstacle = obstacles.nearest(body(i), x);
+    return obstacle.distance < wall.distance ? obstacle : wall;
+  }
+
+  // The form of the surface-force loop for pairwise terms (surface_force.hpp): walls, then obstacles.
+  template <class Visit>
+  KOKKOS_INLINE_FUNCTION SurfacePoint<2, Real> nearest_within(int i, const Vec<2, Real>& x, Real reach,
+                                                              Visit&& visit) const {
+    const SurfacePoint<2, Real> wall = walls_nearest_within(walls.data(), num_walls, x, reach, visit);
+    const SurfacePoint<2, Real> obstacle = obstacles.nearest_within(body(i), x, reach, visit);
     return obstacle.distance < wall.distance ? obstacle : wall;
   }
 };

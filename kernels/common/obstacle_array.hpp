@@ -280,6 +280,11 @@ inline std::vector<Vec<2, double>> poisson_disk_obstacles(double length_x, doubl
 // width ≥ `cell_width`, centres sorted by cell and, within a cell, by input order), with an exact
 // nearest-obstacle query for kernels.
 //
+// Several independent arrays ("arrays", one per replica of an ensemble) can share one object: they
+// have the same box, diameter and cell grid, and array a owns the cells [a·n_cells, (a+1)·n_cells)
+// of one concatenated CSR list. nearest(a, x) and for_each_within(a, ...) see array a only;
+// nearest(x) and for_each_within(x, ...) are those of array 0 (the single-array API).
+//
 // The query searches rings of cells outward from the query's cell and stops when the nearest a ring
 // can hold is farther than the best obstacle found. With `cell_width` = σ_ob + w_ob and a maximal
 // sample (every point lies within σ_ob + w_ob of a centre), the search ends after the 3 × 3 cells
@@ -302,7 +307,20 @@ class ObstacleArray {
   // periodic along both axes.
   ObstacleArray(const Box<2, Real>& box, const std::vector<Vec<2, double>>& centers, Real diameter,
                 Real cell_width)
-      : num_obstacles_(int(centers.size())), radius_(Real(0.5) * diameter) {
+      : ObstacleArray(box, std::vector<std::vector<Vec<2, double>>>{centers}, diameter, cell_width, SeveralArrays{}) {}
+
+  // One independent array per entry of `arrays` (array a: the centres arrays[a]), all in `box`.
+  static ObstacleArray from_arrays(const Box<2, Real>& box, const std::vector<std::vector<Vec<2, double>>>& arrays,
+                                   Real diameter, Real cell_width) {
+    return ObstacleArray(box, arrays, diameter, cell_width, SeveralArrays{});
+  }
+
+ private:
+  struct SeveralArrays {};
+  ObstacleArray(const Box<2, Real>& box, const std::vector<std::vector<Vec<2, double>>>& arrays, Real diameter,
+                Real cell_width, SeveralArrays)
+      : num_arrays_(int(arrays.size())), radius_(Real(0.5) * diameter) {
+    if (arrays.empty()) throw std::invalid_argument("obstacle_array: no arrays (pass one, possibly empty)");
     obstacle_detail::require_positive(double(diameter), "obstacle_array: diameter");
     obstacle_detail::require_positive(double(cell_width), "obstacle_array: cell width");
     if (!box.periodic[0] || !box.periodic[1])
@@ -322,33 +340,43 @@ class ObstacleArray {
     min_width_ = std::min(box.length[0] / Real(n_[0]), box.length[1] / Real(n_[1]));
     max_ring_ = std::max(n_[0] / 2, n_[1] / 2);
 
-    // Counting sort on the host, in input order within each cell: built once, deterministic.
-    const int ncell = n_[0] * n_[1];
-    std::vector<Vec<2, Real>> folded(centers.size());
-    std::vector<int> cell_of(centers.size());
-    std::vector<int> count(std::size_t(ncell) + 1, 0);
-    for (std::size_t i = 0; i < centers.size(); ++i) {
-      for (int d = 0; d < 2; ++d) {
-        if (!std::isfinite(centers[i][d]))
-          throw std::invalid_argument("obstacle_array: centre " + std::to_string(i) + " is not finite");
-        folded[i][d] = Real(centers[i][d]);
+    // Counting sort on the host, in (array, input) order within each cell: built once, deterministic.
+    cells_per_array_ = n_[0] * n_[1];
+    const std::size_t ncell = std::size_t(cells_per_array_) * arrays.size();
+    std::vector<Vec<2, Real>> folded;
+    std::vector<std::size_t> cell_of;
+    std::vector<int> count(ncell + 1, 0);
+    for (std::size_t a = 0; a < arrays.size(); ++a)
+      for (std::size_t i = 0; i < arrays[a].size(); ++i) {
+        Vec<2, Real> q;
+        for (int d = 0; d < 2; ++d) {
+          if (!std::isfinite(arrays[a][i][d]))
+            throw std::invalid_argument("obstacle_array: centre " + std::to_string(i) + " of array " +
+                                        std::to_string(a) + " is not finite");
+          q[d] = Real(arrays[a][i][d]);
+        }
+        box.wrap(q);
+        int c[2];
+        home_cell(q, c);
+        folded.push_back(q);
+        cell_of.push_back(a * std::size_t(cells_per_array_) + std::size_t(c[0] + n_[0] * c[1]));
+        ++count[cell_of.back() + 1];
       }
-      box.wrap(folded[i]);
-      int c[2];
-      home_cell(folded[i], c);
-      cell_of[i] = c[0] + n_[0] * c[1];
-      ++count[std::size_t(cell_of[i]) + 1];
-    }
-    for (int k = 0; k < ncell; ++k) count[std::size_t(k) + 1] += count[std::size_t(k)];
+    if (folded.size() > std::size_t(1) << 30)
+      throw std::invalid_argument("obstacle_array: more than 2^30 obstacles in all");
+    num_obstacles_ = int(folded.size());
+    for (std::size_t k = 0; k < ncell; ++k) count[k + 1] += count[k];
 
-    Kokkos::View<int*, memory_space> offset("mesoflow::obstacle_array::cell_offset", std::size_t(ncell) + 1);
+    Kokkos::View<int*, memory_space> offset("mesoflow::obstacle_array::cell_offset", ncell + 1);
     Kokkos::View<Real* [2], Kokkos::LayoutRight, memory_space> binned("mesoflow::obstacle_array::centers",
-                                                                      centers.size());
+                                                                      folded.size());
     const auto offset_host = Kokkos::create_mirror_view(offset);
     const auto binned_host = Kokkos::create_mirror_view(binned);
-    for (int k = 0; k <= ncell; ++k) offset_host(k) = count[std::size_t(k)];
-    for (std::size_t i = 0; i < centers.size(); ++i) {
-      const int slot = count[std::size_t(cell_of[i])]++;
+    for (std::size_t k = 0; k <= ncell; ++k) offset_host(k) = count[k];
+    array_first_ = Kokkos::View<int*, Kokkos::HostSpace>("mesoflow::obstacle_array::array_first", arrays.size() + 1);
+    for (std::size_t a = 0; a <= arrays.size(); ++a) array_first_(a) = count[a * std::size_t(cells_per_array_)];
+    for (std::size_t i = 0; i < folded.size(); ++i) {
+      const int slot = count[cell_of[i]]++;
       for (int d = 0; d < 2; ++d) binned_host(slot, d) = folded[i][d];
     }
     Kokkos::deep_copy(offset, offset_host);
@@ -357,11 +385,18 @@ class ObstacleArray {
     centers_ = binned;
   }
 
+ public:
+  // Obstacles in all arrays together.
   int size() const { return num_obstacles_; }
+  int num_arrays() const { return num_arrays_; }
+  // Obstacles in array a (host).
+  int size(int array) const { return num_obstacles_ == 0 ? 0 : array_first_(array + 1) - array_first_(array); }
   Real radius() const { return radius_; }
   int cells(int d) const { return n_[d]; }
-  // Centres folded into the box, in cell order.
+  // Centres folded into the box, in cell order (array by array).
   center_view centers() const { return centers_; }
+  // Array a's centres are centers()[first_obstacle(a), first_obstacle(a + 1)) (host).
+  int first_obstacle(int array) const { return num_obstacles_ == 0 ? 0 : array_first_(array); }
 
   // Width of the grid cells: for a maximal Poisson-disk array (poisson_disk_obstacles with
   // cell width σ_ob + w_ob) every point lies within this distance of an obstacle centre.
@@ -373,7 +408,14 @@ class ObstacleArray {
   // separation). Visits each obstacle at most once; for setup work (candidate lists), not hot loops.
   template <class Visitor>
   KOKKOS_INLINE_FUNCTION void for_each_within(const Vec<2, Real>& x, Real radius, Visitor&& visit) const {
+    for_each_within(0, x, radius, visit);
+  }
+
+  // for_each_within(x, radius, visit) over the obstacles of array `array` only.
+  template <class Visitor>
+  KOKKOS_INLINE_FUNCTION void for_each_within(int array, const Vec<2, Real>& x, Real radius, Visitor&& visit) const {
     if (num_obstacles_ == 0) return;
+    const int base = array * cells_per_array_;
     int home[2], first[2], count[2];
     for (int d = 0; d < 2; ++d) {
       Real u = (x[d] - lo_[d]) * inv_width_[d];
@@ -389,7 +431,7 @@ class ObstacleArray {
       for (int ox = 0; ox < count[0]; ++ox) {
         const int cx = ((first[0] + ox) % n_[0] + n_[0]) % n_[0];
         const int cy = ((first[1] + oy) % n_[1] + n_[1]) % n_[1];
-        const int k = cx + n_[0] * cy;
+        const int k = base + cx + n_[0] * cy;
         for (int s = cell_offset_(k); s < cell_offset_(k + 1); ++s) {
           Vec<2, Real> dr{{x[0] - centers_(s, 0), x[1] - centers_(s, 1)}};
           for (int d = 0; d < 2; ++d) dr[d] -= length_[d] * kmath::floor(dr[d] * inv_length_[d] + Real(0.5));
@@ -398,18 +440,52 @@ class ObstacleArray {
       }
   }
 
+  // The surface of one obstacle as seen from x, dr = x − the obstacle's centre image: signed
+  // distance, surface point, outward normal.
+  KOKKOS_INLINE_FUNCTION SurfacePoint<2, Real> surface_of(const Vec<2, Real>& x, const Vec<2, Real>& dr) const {
+    const Real rho = kmath::sqrt(norm2(dr));
+    const Vec<2, Real> outward = rho > Real(0) ? (Real(1) / rho) * dr : geometry_detail::unit_axis<2, Real>(0);
+    const Real distance = rho - radius_;
+    return {distance, x - distance * outward, outward};
+  }
+
+  // nearest(array, x), also calling visit(s) for the surface s of every obstacle of the array at
+  // signed distance < reach from x (for_each_within's order).
+  template <class Visit>
+  KOKKOS_INLINE_FUNCTION SurfacePoint<2, Real> nearest_within(int array, const Vec<2, Real>& x, Real reach,
+                                                              Visit&& visit) const {
+    for_each_within(array, x, reach + radius_, [&](const Vec<2, Real>& image) {
+      const SurfacePoint<2, Real> s = surface_of(x, x - image);
+      if (s.distance < reach) visit(s);
+    });
+    return nearest(array, x);
+  }
+
   // Signed distance to the nearest obstacle's surface at x (any x: periodic images are taken), the
   // nearest surface point and the normal there, pointing out of the obstacle. Ties go to the obstacle
   // found first (inner rings first, cell order within a ring).
   KOKKOS_INLINE_FUNCTION SurfacePoint<2, Real> nearest(const Vec<2, Real>& x) const {
     int examined;
-    return nearest_examined(x, examined);
+    return nearest_examined(0, x, examined);
+  }
+
+  // nearest(x) among the obstacles of array `array` only (no_surface(x) if it has none).
+  KOKKOS_INLINE_FUNCTION SurfacePoint<2, Real> nearest(int array, const Vec<2, Real>& x) const {
+    int examined;
+    return nearest_examined(array, x, examined);
   }
 
   // nearest(x), also counting the obstacles whose distance it computed (the cost of the query).
   KOKKOS_INLINE_FUNCTION SurfacePoint<2, Real> nearest_examined(const Vec<2, Real>& x, int& examined) const {
+    return nearest_examined(0, x, examined);
+  }
+
+  KOKKOS_INLINE_FUNCTION SurfacePoint<2, Real> nearest_examined(int array, const Vec<2, Real>& x,
+                                                                int& examined) const {
     examined = 0;
     if (num_obstacles_ == 0) return no_surface(x);
+    const int base = array * cells_per_array_;
+    if (cell_offset_(base) == cell_offset_(base + cells_per_array_)) return no_surface(x);
     // Cell of x folded into the box, and the distance from x to that cell's nearest edge.
     int home[2];
     Real gap = min_width_;
@@ -446,10 +522,10 @@ class ObstacleArray {
       }
       for (int oy = lo[1]; oy <= hi[1]; ++oy) {
         if (oy == -k || oy == k) {
-          for (int ox = lo[0]; ox <= hi[0]; ++ox) scan_cell(folded, home, fraction, ox, oy, best_r2, best_dr, examined);
+          for (int ox = lo[0]; ox <= hi[0]; ++ox) scan_cell(base, folded, home, fraction, ox, oy, best_r2, best_dr, examined);
         } else {
-          if (lo[0] == -k) scan_cell(folded, home, fraction, -k, oy, best_r2, best_dr, examined);
-          if (hi[0] == k) scan_cell(folded, home, fraction, k, oy, best_r2, best_dr, examined);
+          if (lo[0] == -k) scan_cell(base, folded, home, fraction, -k, oy, best_r2, best_dr, examined);
+          if (hi[0] == k) scan_cell(base, folded, home, fraction, k, oy, best_r2, best_dr, examined);
         }
       }
     }
@@ -462,7 +538,7 @@ class ObstacleArray {
  private:
   // Minimum-image separations from x to the centres of the cell at offset (ox, oy) from home; keeps
   // the shortest (the first of equals).
-  KOKKOS_INLINE_FUNCTION void scan_cell(const Vec<2, Real>& x, const int (&home)[2], const Real (&fraction)[2],
+  KOKKOS_INLINE_FUNCTION void scan_cell(int base, const Vec<2, Real>& x, const int (&home)[2], const Real (&fraction)[2],
                                         int ox, int oy, Real& best_r2, Vec<2, Real>& best_dr, int& examined) const {
     // The cell `o` cells from home, wrapped once (|o| < n), and the image shift of its centres.
     // While (|o| + 1) cells fit in half the box on both axes that image is the minimum image;
@@ -493,7 +569,7 @@ class ObstacleArray {
       }
       if (gap2 >= best_r2) return;
     }
-    const int k = c[0] + n_[0] * c[1];
+    const int k = base + c[0] + n_[0] * c[1];
     for (int s = cell_offset_(k); s < cell_offset_(k + 1); ++s) {
       Vec<2, Real> dr{{image[0] - centers_(s, 0), image[1] - centers_(s, 1)}};
       if (!nearest_image)
@@ -514,7 +590,9 @@ class ObstacleArray {
     }
   }
 
+  int num_arrays_ = 1;
   int num_obstacles_ = 0;
+  int cells_per_array_ = 1;
   Real radius_ = 0;
   int n_[2] = {1, 1};
   Real lo_[2] = {};
@@ -525,7 +603,22 @@ class ObstacleArray {
   int max_ring_ = 0;
   offset_view cell_offset_;
   center_view centers_;
+  Kokkos::View<int*, Kokkos::HostSpace> array_first_;  // first obstacle of each array, and the total
 };
+
+// nearest_surface(shapes, n, x), also calling visit(s) for every shape at signed distance < reach
+// from x, in order: each wall shape is one surface of a pairwise term.
+template <class Real, class Visit>
+KOKKOS_INLINE_FUNCTION SurfacePoint<2, Real> walls_nearest_within(const Shape<2, Real>* shapes, int n,
+                                                                  const Vec<2, Real>& x, Real reach, Visit&& visit) {
+  SurfacePoint<2, Real> nearest = no_surface(x);
+  for (int i = 0; i < n; ++i) {
+    const SurfacePoint<2, Real> s = shapes[i].query(x);
+    if (s.distance < reach) visit(s);
+    if (s.distance < nearest.distance) nearest = s;
+  }
+  return nearest;
+}
 
 // Every surface of a 2D scene: walls (geometry.hpp shapes: wedges, half-planes, segments, disks…) and
 // an optional obstacle array. nearest(x) is the nearer of the two — the d_i of eqs. 3 and 6 and the d
@@ -556,9 +649,29 @@ class Surfaces {
   KOKKOS_INLINE_FUNCTION SurfacePoint<2, Real> nearest(int, const Vec<2, Real>& x) const { return nearest(x); }
 
   // The nearest surface at x: walls first, an obstacle only if strictly nearer.
-  KOKKOS_INLINE_FUNCTION SurfacePoint<2, Real> nearest(const Vec<2, Real>& x) const {
+  KOKKOS_INLINE_FUNCTION SurfacePoint<2, Real> nearest(const Vec<2, Real>& x) const { return nearest_in_array(0, x); }
+
+  // As nearest(x), with the obstacles of array `array` of a multi-array ObstacleArray.
+  KOKKOS_INLINE_FUNCTION SurfacePoint<2, Real> nearest_in_array(int array, const Vec<2, Real>& x) const {
     const SurfacePoint<2, Real> wall = nearest_surface(walls_.data(), num_walls_, x);
-    const SurfacePoint<2, Real> obstacle = obstacles_.nearest(x);
+    const SurfacePoint<2, Real> obstacle = obstacles_.nearest(array, x);
+    return obstacle.distance < wall.distance ? obstacle : wall;
+  }
+
+  // The form of the surface-force loop for pairwise terms: nearest(x), calling visit(s) for every
+  // wall and every obstacle at signed distance < reach from x (walls first, in order).
+  template <class Visit>
+  KOKKOS_INLINE_FUNCTION SurfacePoint<2, Real> nearest_within(int, const Vec<2, Real>& x, Real reach,
+                                                              Visit&& visit) const {
+    return nearest_within_in_array(0, x, reach, visit);
+  }
+
+  // As nearest_within, with the obstacles of array `array` of a multi-array ObstacleArray.
+  template <class Visit>
+  KOKKOS_INLINE_FUNCTION SurfacePoint<2, Real> nearest_within_in_array(int array, const Vec<2, Real>& x, Real reach,
+                                                                       Visit&& visit) const {
+    const SurfacePoint<2, Real> wall = walls_nearest_within(walls_.data(), num_walls_, x, reach, visit);
+    const SurfacePoint<2, Real> obstacle = obstacles_.nearest_within(array, x, reach, visit);
     return obstacle.distance < wall.distance ? obstacle : wall;
   }
 
@@ -566,6 +679,24 @@ class Surfaces {
   shape_view walls_;
   int num_walls_ = 0;
   ObstacleArray<Real, ExecSpace> obstacles_;
+};
+
+// Surface query for the surface-force loop when each particle is a replica in its own obstacle
+// array (soft-particle ensembles): the walls and array(i)'s obstacles for particle i.
+template <class Real, class ExecSpace = Kokkos::DefaultExecutionSpace>
+struct ParticleArraySurfaces {
+  Surfaces<Real, ExecSpace> surfaces;
+  Kokkos::View<const int*, ExecSpace> array;  // obstacle array of each particle
+
+  KOKKOS_INLINE_FUNCTION SurfacePoint<2, Real> nearest(int i, const Vec<2, Real>& x) const {
+    return surfaces.nearest_in_array(array(i), x);
+  }
+
+  template <class Visit>
+  KOKKOS_INLINE_FUNCTION SurfacePoint<2, Real> nearest_within(int i, const Vec<2, Real>& x, Real reach,
+                                                              Visit&& visit) const {
+    return surfaces.nearest_within_in_array(array(i), x, reach, visit);
+  }
 };
 
 }  // namespace mesoflow

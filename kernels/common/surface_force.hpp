@@ -1,20 +1,32 @@
 // surface_force.hpp — the one loop for forces between particles and the surfaces of a scene (walls and
-// obstacles): one nearest-surface query per particle, handed to every per-particle term.
+// obstacles): one pass over the surfaces near each particle, handed to every per-particle term.
 //
 // Physics lives in small terms (dp/vertex_wall_repulsion.hpp, dp/near_wall_drag.hpp,
 // sp/obstacle_repulsion.hpp, sp/viscous_drag.hpp); this loop owns the query, the per-particle sum
-// and the energy reduction (accumulated in double). A term provides
-//     KOKKOS_INLINE_FUNCTION void evaluate(const SurfacePoint<2, Real>& s, const Vec<2, Real>& v,
-//                                          Vec<2, Real>& force, double& energy) const;
-// adding its force on a particle at signed distance s.distance from the nearest surface (normal
-// s.normal, into the fluid), moving with velocity v, to `force` and its energy to `energy`.
-// Each particle writes only its own force: deterministic at any thread count, no atomics.
+// and the energy reduction (accumulated in double). Terms come in two kinds:
+//   - nearest-surface terms (drag: eq. 6 takes the minimum distance) provide
+//       KOKKOS_INLINE_FUNCTION void evaluate(const SurfacePoint<2, Real>& s, const Vec<2, Real>& v,
+//                                            Vec<2, Real>& force, double& energy) const;
+//     adding the force on a particle at signed distance s.distance from the nearest surface (normal
+//     s.normal, into the fluid), moving with velocity v, to `force` and its energy to `energy`;
+//   - pairwise terms (a pair potential between the particle and each surface: eq. 3) declare
+//       static constexpr bool pairwise = true;  Real reach() const;  (no action at d ≥ reach)
+//       KOKKOS_INLINE_FUNCTION void evaluate_pair(const SurfacePoint<2, Real>& s, Vec<2, Real>& force,
+//                                                 double& energy) const;
+//     and are called once for every wall shape and every obstacle within reach of the particle, so
+//     their energy is a sum of smooth pair terms (the nearest alone would make the force jump where
+//     the nearest of two overlapping surfaces changes).
+// The query of a call with pairwise terms, nearest_within(i, x, reach, visit), returns the nearest
+// surface and calls visit(s) for every surface at distance < reach, in a fixed order. Each particle
+// writes only its own force: deterministic at any thread count, no atomics.
 #pragma once
 
 #include "kokkos_compat.hpp"
 #include "obstacle_array.hpp"
 #include "particles.hpp"
 #include "vec.hpp"
+
+#include <type_traits>
 
 namespace mesoflow {
 
@@ -25,23 +37,59 @@ namespace surface_force_detail {
 template <class... Terms>
 struct TermList;
 
+// Whether Term is a pairwise term (declares `static constexpr bool pairwise = true`).
+template <class Term, class = void>
+struct IsPairwise {
+  static constexpr bool value = false;
+};
+template <class Term>
+struct IsPairwise<Term, std::enable_if_t<Term::pairwise>> {
+  static constexpr bool value = true;
+};
+
 template <>
 struct TermList<> {
+  static constexpr bool any_pairwise = false;
   template <class Real>
   KOKKOS_INLINE_FUNCTION void evaluate(const SurfacePoint<2, Real>&, const Vec<2, Real>&, Vec<2, Real>&,
                                        double&) const {}
+  template <class Real>
+  KOKKOS_INLINE_FUNCTION void evaluate_pair(const SurfacePoint<2, Real>&, Vec<2, Real>&, double&) const {}
+  template <class Real>
+  Real reach() const {
+    return Real(0);
+  }
 };
 
 template <class Head, class... Tail>
 struct TermList<Head, Tail...> {
+  static constexpr bool head_pairwise = IsPairwise<Head>::value;
+  static constexpr bool any_pairwise = head_pairwise || TermList<Tail...>::any_pairwise;
   Head head;
   TermList<Tail...> tail;
 
+  // The nearest-surface terms.
   template <class Real>
   KOKKOS_INLINE_FUNCTION void evaluate(const SurfacePoint<2, Real>& s, const Vec<2, Real>& v,
                                        Vec<2, Real>& force, double& energy) const {
-    head.evaluate(s, v, force, energy);
+    if constexpr (!head_pairwise) head.evaluate(s, v, force, energy);
     tail.evaluate(s, v, force, energy);
+  }
+
+  // The pairwise terms, for one surface within reach.
+  template <class Real>
+  KOKKOS_INLINE_FUNCTION void evaluate_pair(const SurfacePoint<2, Real>& s, Vec<2, Real>& force,
+                                            double& energy) const {
+    if constexpr (head_pairwise) head.evaluate_pair(s, force, energy);
+    tail.evaluate_pair(s, force, energy);
+  }
+
+  // Largest reach of the pairwise terms (host).
+  template <class Real>
+  Real reach() const {
+    const Real rest = tail.template reach<Real>();
+    if constexpr (head_pairwise) return head.reach() > rest ? head.reach() : rest;
+    return rest;
   }
 };
 
@@ -59,11 +107,20 @@ struct SurfaceForceKernel {
   Query surfaces;
   vector_view x, v, f;
   Terms terms;
+  Real reach;  // largest reach of the pairwise terms
 
   KOKKOS_INLINE_FUNCTION void operator()(int i, double& energy) const {
-    const SurfacePoint<2, Real> s = surfaces.nearest(i, Vec<2, Real>::load(x, i));
+    const Vec<2, Real> xi = Vec<2, Real>::load(x, i);
     Vec<2, Real> fi = Vec<2, Real>::zero();
-    terms.evaluate(s, Vec<2, Real>::load(v, i), fi, energy);
+    if constexpr (Terms::any_pairwise) {
+      const SurfacePoint<2, Real> s =
+          surfaces.nearest_within(i, xi, reach, [&](const SurfacePoint<2, Real>& near) {
+            terms.evaluate_pair(near, fi, energy);
+          });
+      terms.evaluate(s, Vec<2, Real>::load(v, i), fi, energy);
+    } else {
+      terms.evaluate(surfaces.nearest(i, xi), Vec<2, Real>::load(v, i), fi, energy);
+    }
     for (int d = 0; d < 2; ++d) f(i, d) += fi[d];
   }
 };
@@ -74,15 +131,17 @@ struct SurfaceForceKernel {
 // is the velocity that velocity-dependent terms (drag) must see: the integrator's
 // velocity_for_forces(p) (p.v itself for λ = ½, see velocity_verlet.hpp).
 //
-// `surfaces` is any query with KOKKOS_INLINE_FUNCTION nearest(int particle, Vec x): Surfaces (walls
-// and the obstacle grid) or BodySurfaces (walls and per-body obstacle candidates).
+// `surfaces` is any query with KOKKOS_INLINE_FUNCTION nearest(int particle, Vec x) and, for pairwise
+// terms, nearest_within(int particle, Vec x, Real reach, Visit visit): Surfaces (walls and the
+// obstacle grid), BodySurfaces (walls and per-body obstacle candidates) or ParticleArraySurfaces.
 template <class Query, class Real, class ExecSpace, class... Terms>
 double accumulate_surface_forces(const Query& surfaces, const Particles<2, Real, ExecSpace>& p,
                                  const typename Particles<2, Real, ExecSpace>::vector_view& velocity,
                                  const Terms&... terms) {
   using Kernel =
       surface_force_detail::SurfaceForceKernel<Real, ExecSpace, Query, surface_force_detail::TermList<Terms...>>;
-  const Kernel kernel{surfaces, p.x, velocity, p.f, surface_force_detail::make_term_list(terms...)};
+  const auto term_list = surface_force_detail::make_term_list(terms...);
+  const Kernel kernel{surfaces, p.x, velocity, p.f, term_list, term_list.template reach<Real>()};
   double energy = 0;
   Kokkos::parallel_reduce("mesoflow::surface_force::accumulate", Kokkos::RangePolicy<ExecSpace>(0, p.size()), kernel,
                           energy);

@@ -166,6 +166,7 @@ struct BodyState {
   scalar_view mass;          // M = Σ M_i
   vector_view com;           // Σ M_i r_i / M
   vector_view com_velocity;  // Σ M_i v_i / M
+  scalar_view kinetic_energy;  // E_k = Σ ½ M_i |v_i|² (capillary-droplets App. C, the clogging criterion)
 
   BodyState() = default;
   explicit BodyState(int n_bodies)
@@ -173,12 +174,13 @@ struct BodyState {
         perimeter("mesoflow::dp::body_state::perimeter", n_bodies),
         mass("mesoflow::dp::body_state::mass", n_bodies),
         com("mesoflow::dp::body_state::com", n_bodies),
-        com_velocity("mesoflow::dp::body_state::com_velocity", n_bodies) {}
+        com_velocity("mesoflow::dp::body_state::com_velocity", n_bodies),
+        kinetic_energy("mesoflow::dp::body_state::kinetic_energy", n_bodies) {}
 
   int num_bodies() const { return int(area.extent(0)); }
 };
 
-// Area, perimeter, mass, centre of mass and its velocity of every body, in one kernel over bodies:
+// Area, perimeter, mass, centre of mass, its velocity and the kinetic energy of every body, in one kernel over bodies:
 // each body is summed by one thread in vertex order, in double, so the result is deterministic on
 // any backend and thread count. The DP scenes batch many bodies (replicas of a droplet, or the
 // hopper's particles) of a few dozen to a few hundred vertices each, so the bodies alone give the
@@ -205,12 +207,13 @@ void update_body_state(const Polygons<Real, ExecSpace>& polygons, const Particle
   const auto mass = state.mass;
   const auto com = state.com;
   const auto com_velocity = state.com_velocity;
+  const auto kinetic_energy = state.kinetic_energy;
   Kokkos::parallel_for(
       "mesoflow::dp::body_state", Kokkos::RangePolicy<ExecSpace>(0, polygons.num_bodies()),
       KOKKOS_LAMBDA(int b) {
         const int begin = offset(b), end = offset(b + 1);
         const double x0 = x(begin, 0), y0 = x(begin, 1);
-        double twice_area = 0, length = 0, mb = 0, mr[2] = {0, 0}, mv[2] = {0, 0};
+        double twice_area = 0, length = 0, mb = 0, mr[2] = {0, 0}, mv[2] = {0, 0}, twice_ke = 0;
         for (int i = begin; i < end; ++i) {
           const int j = i + 1 < end ? i + 1 : begin;
           const double xi = double(x(i, 0)) - x0, yi = double(x(i, 1)) - y0;
@@ -223,6 +226,7 @@ void update_body_state(const Polygons<Real, ExecSpace>& polygons, const Particle
           mr[1] += mi * yi;
           mv[0] += mi * double(v(i, 0));
           mv[1] += mi * double(v(i, 1));
+          twice_ke += mi * (double(v(i, 0)) * double(v(i, 0)) + double(v(i, 1)) * double(v(i, 1)));
         }
         area(b) = Real(0.5 * twice_area);
         perimeter(b) = Real(length);
@@ -231,6 +235,7 @@ void update_body_state(const Polygons<Real, ExecSpace>& polygons, const Particle
         com(b, 1) = Real(y0 + mr[1] / mb);
         com_velocity(b, 0) = Real(mv[0] / mb);
         com_velocity(b, 1) = Real(mv[1] / mb);
+        kinetic_energy(b) = Real(0.5 * twice_ke);
       });
 }
 

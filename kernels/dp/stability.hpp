@@ -5,7 +5,12 @@
 // frequencies of the stiffest mode of every term (an upper bound of the largest eigenvalue of the
 // sum of positive semi-definite Hessians) and asks ω Δt ≤ 1. Each vertex has mass m = M/N_v.
 //   wall/obstacle repulsion (capillary eq. 3): ∂²U/∂d² = 4ε_w/δ²        ⇒ ω² = 4ε_w/(δ² m)
-//   line tension γP (eq. 2): a chain under tension γ, spacing l0          ⇒ ω² = 4γ/(l0 m)
+//   line tension γP (eq. 2): a chain under tension γ, spacing l           ⇒ ω² = 4γ/(l m)
+//     with l = l0/10: gravity acts on the vertices and the weak segment springs (K_l/Γ = 10⁻³)
+//     let them slide down a resting droplet's interface and crowd there (edges of l0/10 measured
+//     at Γ = 10 in the orifice); a Γ = 10 droplet pressed into the orifice was unstable at
+//     Δt = 7.8·10⁻⁴ (the limit with l = l0), kept a slow numerically heated oscillation at 4.6·10⁻⁴
+//     (l = l0/4) and came to rest at 2·10⁻⁴ (docs/droplets.md).
 //   segment springs k_l N_v (eq. 1): a chain of springs k_l N_v           ⇒ ω² = 4 k_l N_v/m
 //   area elasticity k_a (eq. 1): rank one, k_a |∇a|², |∇a|² = Σ l_i² ≈ P l0 ⇒ ω² = k_a P l0/m
 //   bending k_b (hopper eq. 8): highest mode of a discrete curvature chain ⇒ ω² = 16 k_b/(l0² m)
@@ -67,11 +72,13 @@ struct StabilityLimit {
   }
 };
 
+constexpr double crowded_edge_fraction = 0.1;  // l/l0 for the line-tension mode (see above)
+
 inline StabilityLimit stability_limit(const StiffnessInputs& s) {
   StabilityLimit r;
   const double m = s.vertex_mass;
   r.omega_wall = std::sqrt(4 * s.wall_energy / (s.vertex_diameter * s.vertex_diameter * m));
-  r.omega_line_tension = std::sqrt(4 * s.line_tension / (s.edge_length * m));
+  r.omega_line_tension = std::sqrt(4 * s.line_tension / (crowded_edge_fraction * s.edge_length * m));
   r.omega_springs = std::sqrt(4 * s.perimeter_stiffness * s.vertices / m);
   r.omega_area = std::sqrt(s.area_stiffness * s.perimeter * s.edge_length / m);
   r.omega_bending = std::sqrt(16 * s.bending_stiffness / (s.edge_length * s.edge_length * m));

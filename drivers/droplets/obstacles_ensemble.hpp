@@ -1,0 +1,191 @@
+// obstacles_ensemble.hpp — ensembles of single droplets in random obstacle arrays (capillary-droplets
+// §4.2–4.3, Appendices C–E): each replica has its own seed and its own Poisson-disk array in a
+// periodic L × L box, and a batch of replicas advances together, one set of Kokkos launches per
+// step over all of them (the batch's arrays are one multi-array ObstacleArray).
+//
+// A replica: the droplet is placed at the centre of the box (§2.4), relaxed alone by FIRE without
+// gravity (removing the overlaps with obstacles), then released under gravity in the batch, until
+// it clogs (E_k/E_t below the threshold, App. C) or reaches the time limit (right-censored).
+// Relaxing alone keeps each replica's trajectory independent of its batch: FIRE's global power and
+// step adaptation would otherwise couple the replicas; afterwards every kernel acts per droplet, so
+// a replica gives bitwise the same record in any batch as alone (tests/dp/test_obstacle_ensemble.cpp).
+//
+// Batches are not refilled: a replica that finishes keeps being stepped (its record is final) until
+// the whole batch has finished. Refilling would rebuild the multi-array ObstacleArray and the
+// candidate lists on the host at every replacement; the driver instead keeps batches of replicas of
+// one sweep point, which finish within a factor of a few of each other in the clogging regime, and
+// a batch ends as soon as its last replica does.
+#pragma once
+
+#include "drivers/droplets/clog_detection.hpp"
+#include "drivers/droplets/droplet_scene.hpp"
+#include "drivers/droplets/soft_particle_scene.hpp"
+#include "kernels/common/obstacle_array.hpp"
+
+#include <cmath>
+#include <cstdint>
+#include <functional>
+#include <numeric>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace mesoflow::droplets {
+
+enum class DropletModel { deformable_polygon, soft_particle };
+
+// One sweep point: the model and its parameters, the obstacle array and the run limits.
+struct ObstacleEnsembleParameters {
+  DropletModel model = DropletModel::deformable_polygon;
+  DropletParameters droplet;      // DP
+  SoftParticleParameters soft;    // SP
+  double box_length = 40.0;       // L/σ
+  double obstacle_diameter = 0.3; // σ_ob/σ
+  double gap = 0.2;               // w_ob/σ, the minimum surface-to-surface gap of the array
+  double time_limit = 200.0;      // T/t0
+  double clog_threshold = 1e-17;  // on E_k/E_t (App. C)
+  int relax_iterations = 20000;   // FIRE iterations of the initial relaxation
+
+  double terminal_speed() const {
+    return model == DropletModel::deformable_polygon ? droplet.terminal_speed : soft.terminal_speed;
+  }
+  double gravity_angle() const {
+    return model == DropletModel::deformable_polygon ? droplet.gravity_angle : soft.gravity_angle;
+  }
+};
+
+// The obstacle-array seed of replica `replica` (SplitMix64 of the base seed and the index): the same
+// replica index gets the same seed at every sweep point, so points with the same w_ob compare on the
+// same arrays (common random numbers).
+inline std::uint64_t replica_seed(std::uint64_t seed, int replica) {
+  std::uint64_t z = seed + 0x9E3779B97F4A7C15ULL * (std::uint64_t(replica) + 1);
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
+  return z ^ (z >> 31);
+}
+
+namespace ensemble_detail {
+
+constexpr int sample_steps = 10;    // steps between clog checks (10⁻² t0 at Δt = 10⁻³ t0)
+constexpr int report_steps = 1000;  // steps between host reads of the finished count
+
+// Centre of mass and E_k of DP droplet b (BodyState after update_body_state).
+template <class Real, class ExecSpace>
+struct DeformableReplicaState {
+  typename dp::BodyState<Real, ExecSpace>::vector_view com;
+  typename dp::BodyState<Real, ExecSpace>::scalar_view kinetic_energy;
+  KOKKOS_INLINE_FUNCTION void operator()(int b, double (&c)[2], double& ke) const {
+    c[0] = com(b, 0);
+    c[1] = com(b, 1);
+    ke = kinetic_energy(b);
+  }
+};
+
+// Position and E_k = ½ M v² of SP droplet b.
+template <class Real, class ExecSpace>
+struct SoftReplicaState {
+  typename Particles<2, Real, ExecSpace>::vector_view x, v;
+  typename Particles<2, Real, ExecSpace>::scalar_view mass;
+  KOKKOS_INLINE_FUNCTION void operator()(int b, double (&c)[2], double& ke) const {
+    c[0] = x(b, 0);
+    c[1] = x(b, 1);
+    ke = 0.5 * double(mass(b)) * (double(v(b, 0)) * double(v(b, 0)) + double(v(b, 1)) * double(v(b, 1)));
+  }
+};
+
+template <class Real>
+Box<2, Real> periodic_square(double length) {
+  const Real lo[2] = {0, 0}, len[2] = {Real(length), Real(length)};
+  const bool periodic[2] = {true, true};
+  return Box<2, Real>(lo, len, periodic);
+}
+
+// Steps `scene` until every replica has finished, reporting each as it does.
+template <class Scene, class StateOf>
+void run_until_finished(const ObstacleEnsembleParameters& par, Scene& scene, int replicas, StateOf&& state_of,
+                        const std::function<void(int, const ReplicaRecord&)>& on_finished,
+                        const std::function<void(long long)>& on_steps) {
+  const double angle = par.gravity_angle() * dp::pi / 180.0;
+  const double terminal_energy = 0.5 * droplet_mass * par.terminal_speed() * par.terminal_speed();
+  ClogDetector<typename Scene::particles_type::execution_space> detector(
+      replicas, terminal_energy, par.clog_threshold, par.time_limit, Vec<2, double>{{std::cos(angle), std::sin(angle)}});
+  detector.start(state_of());
+  const long long limit_steps =
+      (static_cast<long long>(std::ceil(par.time_limit / scene.dt() - 1e-9)) + sample_steps - 1) / sample_steps *
+      sample_steps;
+  std::vector<bool> reported(std::size_t(replicas), false);
+  int running = replicas;
+  long long step = 0;
+  while (running > 0) {
+    for (int k = 0; k < sample_steps; ++k) scene.step();
+    step += sample_steps;
+    detector.observe(scene.time(), step >= limit_steps, state_of());
+    if (step % report_steps != 0 && step < limit_steps) continue;
+    on_steps(step);
+    const int now = detector.running();
+    if (now == running) continue;
+    running = now;
+    const std::vector<int> status = detector.status();
+    for (int b = 0; b < replicas; ++b)
+      if (status[std::size_t(b)] != replica_status::running && !reported[std::size_t(b)]) {
+        reported[std::size_t(b)] = true;
+        on_finished(b, detector.record(b));
+      }
+  }
+}
+
+}  // namespace ensemble_detail
+
+// Runs the replicas with obstacle-array seeds `seeds` as one batch; on_finished(k, record) is called
+// (on the host) for replica seeds[k] as soon as it finishes, on_steps(steps) every few hundred steps.
+template <class Real, class ExecSpace = Kokkos::DefaultExecutionSpace>
+void run_obstacle_batch(const ObstacleEnsembleParameters& par, const std::vector<std::uint64_t>& seeds,
+                        const std::function<void(int, const ReplicaRecord&)>& on_finished,
+                        const std::function<void(long long)>& on_steps = [](long long) {}) {
+  using namespace ensemble_detail;
+  if (seeds.empty()) throw std::invalid_argument("obstacle ensemble: no replicas");
+  const int n = int(seeds.size());
+  const auto box = periodic_square<Real>(par.box_length);
+  const Real diameter = Real(par.obstacle_diameter), cell = Real(par.obstacle_diameter + par.gap);
+  std::vector<std::vector<Vec<2, double>>> arrays;
+  for (const std::uint64_t seed : seeds)
+    arrays.push_back(poisson_disk_obstacles(par.box_length, par.box_length, par.obstacle_diameter, par.gap, seed));
+  const Vec<2, double> centre{{0.5 * par.box_length, 0.5 * par.box_length}};
+  std::vector<int> which(std::size_t(n), 0);  // replica k in array k
+  std::iota(which.begin(), which.end(), 0);
+  const Surfaces<Real, ExecSpace> batch_surfaces(ObstacleArray<Real, ExecSpace>::from_arrays(box, arrays, diameter, cell));
+
+  if (par.model == DropletModel::deformable_polygon) {
+    DropletScene<Real, ExecSpace> scene(par.droplet, batch_surfaces, std::vector<Vec<2, double>>(std::size_t(n), centre),
+                                        which);
+    for (int k = 0; k < n; ++k) {
+      DropletScene<Real, ExecSpace> alone(
+          par.droplet, Surfaces<Real, ExecSpace>(ObstacleArray<Real, ExecSpace>(box, arrays[std::size_t(k)], diameter, cell)),
+          {centre});
+      alone.relax(par.relax_iterations);
+      scene.place_droplet(k, alone.droplet_vertices(0));
+    }
+    const auto state_of = [&scene] {
+      const auto& s = scene.update_body_state();
+      return DeformableReplicaState<Real, ExecSpace>{s.com, s.kinetic_energy};
+    };
+    run_until_finished(par, scene, n, state_of, on_finished, on_steps);
+  } else {
+    SoftParticleScene<Real, ExecSpace> scene(par.soft, batch_surfaces, std::vector<Vec<2, double>>(std::size_t(n), centre),
+                                             which);
+    for (int k = 0; k < n; ++k) {
+      SoftParticleScene<Real, ExecSpace> alone(
+          par.soft, Surfaces<Real, ExecSpace>(ObstacleArray<Real, ExecSpace>(box, arrays[std::size_t(k)], diameter, cell)),
+          {centre}, {0});
+      alone.relax(par.relax_iterations);
+      scene.place_droplet(k, alone.droplet_centre(0));
+    }
+    const auto state_of = [&scene] {
+      const auto& p = scene.particles();
+      return SoftReplicaState<Real, ExecSpace>{p.x, p.v, p.mass};
+    };
+    run_until_finished(par, scene, n, state_of, on_finished, on_steps);
+  }
+}
+
+}  // namespace mesoflow::droplets

@@ -1,0 +1,142 @@
+// orifice_run.hpp — one DP droplet falling through the narrow orifice of capillary-droplets §2.1
+// (Fig. 1a): two 45° wedges leave a gap of width w; the droplet starts above it at rest, FIRE removes
+// overlaps without gravity (§2.4), then it falls under gravity with drag (eqs. 5–7) until it has
+// passed (centre of mass end_h below the orifice), clogged (E_k/E_t below the threshold of
+// Appendix C) or the time limit ends the run. Shared by the `orifice` and `calibrate` drivers and
+// the tests.
+//
+// Units as in droplet_scene.hpp: σ, g, ρ; t0 = √(σ/g); speeds in σ/t0, so v_t = V_t.
+// Frame: gravity along −y, the orifice at y = 0, x = 0; h = −y_com is the distance of the centre
+// of mass past the orifice (h < 0 before it, as in the paper's Fig. 2–4), v_g = −v_y,com the speed
+// along the driving direction.
+#pragma once
+
+#include "drivers/droplets/droplet_scene.hpp"
+#include "kernels/common/geometry.hpp"
+#include "kernels/common/reductions.hpp"
+
+#include <cmath>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace mesoflow::droplets {
+
+struct OrificeScene {
+  DropletParameters droplet;       // the Fig. 2 droplet by default
+  double width = 0.4;              // w/σ
+  double start_h = -2.0;           // initial h/σ: 1.5σ above first contact at w = 0.4σ; v_t is reached within ~1 t0
+  double end_h = 1.0;              // passed once h ≥ end_h
+  double max_time = 2000;          // t/t0 limit
+  double sample_interval = 0.05;   // t0 between profile samples
+  double clog_threshold = 1e-17;   // E_k/E_t below which the droplet is clogged (Appendix C)
+
+  void validate() const {
+    droplet.validate();
+    auto require = [](bool ok, const char* name, const char* range, double value) {
+      if (!ok)
+        throw std::invalid_argument(std::string("orifice scene: ") + name + " must be " + range + ", got " +
+                                    std::to_string(value));
+    };
+    require(std::isfinite(width) && width > 0 && width <= 10, "orifice width w", "in (0, 10]", width);
+    require(std::isfinite(start_h) && start_h <= -1.0, "start height start_h", "<= -1 (above the funnel)", start_h);
+    require(std::isfinite(end_h) && end_h > 0 && end_h <= 100, "end height end_h", "in (0, 100]", end_h);
+    require(std::isfinite(max_time) && max_time > 0, "time limit max_time", "finite and > 0", max_time);
+    require(std::isfinite(sample_interval) && sample_interval > 0, "sample interval", "finite and > 0", sample_interval);
+    require(std::isfinite(clog_threshold) && clog_threshold > 0 && clog_threshold < 1, "clog threshold E_k/E_t",
+            "in (0, 1)", clog_threshold);
+  }
+};
+
+enum class OrificeOutcome { passed, clogged, time_limit };
+
+inline const char* to_string(OrificeOutcome o) {
+  switch (o) {
+    case OrificeOutcome::passed: return "passed";
+    case OrificeOutcome::clogged: return "clogged";
+    default: return "time_limit";
+  }
+}
+
+// The profiles, one entry per sample (every sample_interval, plus the last state).
+struct OrificeProfile {
+  std::vector<double> t, h, vg, shape, area, kinetic;  // t/t0, h/σ, v_g/(σ/t0), 𝒜, a/a0, E_k/E_t
+  OrificeOutcome outcome = OrificeOutcome::time_limit;
+  double dt = 0;                 // the time step used
+  double max_area_error = 0;     // max |a/a_eq − 1| after contact, a_eq the area of the free droplet
+  double free_area = 0;          // a_eq/a0: the droplet's area before contact (line tension compresses it)
+  long long steps = 0;
+};
+
+inline Surfaces<double, Kokkos::DefaultExecutionSpace> orifice_surfaces(double width) {
+  const auto wedges = orifice_wedges<double>(width, 0.0, 0.0);
+  return Surfaces<double, Kokkos::DefaultExecutionSpace>(std::vector<Shape<2, double>>{wedges[0], wedges[1]});
+}
+
+// Runs one passage. `on_sample(scene, profile)` is called after every sample is appended (the
+// driver writes frames from it); pass [](auto&, auto&) {} when none is wanted.
+template <class OnSample>
+OrificeProfile run_orifice(const OrificeScene& setup, OnSample&& on_sample) {
+  using Exec = Kokkos::DefaultExecutionSpace;
+  setup.validate();
+  DropletScene<double, Exec> scene(setup.droplet, orifice_surfaces(setup.width),
+                                   {Vec<2, double>{{0.0, -setup.start_h}}});
+  scene.relax();
+  OrificeProfile prof;
+  prof.dt = scene.dt();
+  const double vt = setup.droplet.terminal_speed;
+  const double terminal_energy = 0.5 * droplet_mass * vt * vt;  // E_t
+  const long long sample_every = std::max(1LL, std::llround(setup.sample_interval / scene.dt()));
+  const long long max_steps = std::llround(setup.max_time / scene.dt());
+  // Contact with the funnel begins where the droplet's disk touches the 45° walls:
+  // (−h + w/2)/√2 = 1/2 ⇒ h = w/2 − √2/2. Area is measured against the free droplet's before it.
+  const double contact_h = 0.5 * setup.width - std::sqrt(0.5);
+  bool moving = false;  // the clog test starts once the droplet has reached half the terminal speed
+
+  auto sample = [&] {
+    const auto o = scene.observables();
+    const double ek = kinetic_energy(scene.particles()) / terminal_energy;
+    prof.t.push_back(scene.time());
+    prof.h.push_back(-o.com[0][1]);
+    prof.vg.push_back(-o.com_velocity[0][1]);
+    prof.shape.push_back(o.shape_parameter[0]);
+    prof.area.push_back(o.area[0] / droplet_area);
+    prof.kinetic.push_back(ek);
+    if (prof.h.back() < contact_h - 0.1)
+      prof.free_area = prof.area.back();
+    else if (prof.free_area > 0)
+      prof.max_area_error = std::max(prof.max_area_error, std::abs(prof.area.back() / prof.free_area - 1));
+    on_sample(scene, prof);
+    return ek;
+  };
+
+  sample();
+  constexpr long long clog_check_every = 10;  // steps; E_k decays at ~2b∞/M per t0, so 10 steps lose nothing
+  while (scene.steps() < max_steps) {
+    scene.step();
+    const bool at_sample = scene.steps() % sample_every == 0;
+    const bool at_check = at_sample || scene.steps() % clog_check_every == 0;
+    const double ek = at_check ? kinetic_energy(scene.particles()) / terminal_energy : 1.0;
+    if (at_check && ek > 0.25) moving = true;  // (v/v_t)² > 1/4
+    if (moving && ek < setup.clog_threshold) {
+      prof.outcome = OrificeOutcome::clogged;
+      break;
+    }
+    if (at_sample) {
+      sample();
+      if (prof.h.back() >= setup.end_h) {
+        prof.outcome = OrificeOutcome::passed;
+        break;
+      }
+    }
+  }
+  if (prof.t.empty() || prof.t.back() != scene.time()) sample();
+  prof.steps = scene.steps();
+  return prof;
+}
+
+inline OrificeProfile run_orifice(const OrificeScene& setup) {
+  return run_orifice(setup, [](const auto&, const auto&) {});
+}
+
+}  // namespace mesoflow::droplets

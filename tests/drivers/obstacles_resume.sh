@@ -1,0 +1,39 @@
+#!/usr/bin/env bash
+# An obstacles sweep killed (SIGKILL) after some replicas have finished, then run again with
+# --restart, must recompute none of the finished replicas and end with the same results (HDF5
+# /results, CSV) as an uninterrupted sweep.
+#   obstacles_resume.sh <obstacles executable> <work dir> [driver arguments...]
+set -euo pipefail
+exe="$1"; dir="$2"; shift 2
+rm -rf "$dir"; mkdir -p "$dir/straight" "$dir/killed"
+args=(--quiet --threads 2 "$@")
+compare="$(dirname "$0")/h5_identical.py"
+
+"$exe" "${args[@]}" --output "$dir/straight/run.h5"
+total=$(sed -n 's/.*"replicas_computed": \([0-9]*\).*/\1/p' "$dir/straight/run.json")
+
+finished() { h5dump -d /finished "$dir/killed/run.ckpt.h5" 2>/dev/null | sed -n 's/.*(0): \([0-9]*\).*/\1/p'; }
+"$exe" "${args[@]}" --output "$dir/killed/run.h5" &
+pid=$!
+for _ in $(seq 1 3000); do
+  n=$(finished || true)
+  [ -n "$n" ] && [ "$n" -ge 1 ] && break
+  sleep 0.01
+done
+kill -9 "$pid" 2>/dev/null || true
+wait "$pid" 2>/dev/null || true
+[ -f "$dir/killed/run.json" ] && { echo "FAIL: the sweep finished before it could be killed; give it more work" >&2; exit 1; }
+before=$(finished)
+echo "killed with $before of $total replicas finished"
+[ "$before" -ge 1 ] && [ "$before" -lt "$total" ] || { echo "FAIL: expected a partial checkpoint" >&2; exit 1; }
+
+"$exe" "${args[@]}" --output "$dir/killed/run.h5" --restart
+computed=$(sed -n 's/.*"replicas_computed": \([0-9]*\).*/\1/p' "$dir/killed/run.json")
+resumed=$(sed -n 's/.*"replicas_resumed": \([0-9]*\).*/\1/p' "$dir/killed/run.json")
+status=0
+[ "$resumed" -eq "$before" ] || { echo "FAIL: resumed $resumed replicas, the checkpoint held $before" >&2; status=1; }
+[ "$computed" -eq $((total - before)) ] || { echo "FAIL: computed $computed replicas after the restart, expected $((total - before))" >&2; status=1; }
+"$compare" "$dir/straight/run.h5" "$dir/killed/run.h5" /results || { echo "FAIL: results differ" >&2; status=1; }
+cmp "$dir/straight/run.csv" "$dir/killed/run.csv" || { echo "FAIL: summary tables differ" >&2; status=1; }
+[ $status -eq 0 ] && echo "resumed sweep recomputed $computed of $total replicas and matches the uninterrupted sweep"
+exit $status
