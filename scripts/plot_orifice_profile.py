@@ -3,7 +3,7 @@
 against the distance h/sigma of the droplet's centre of mass from the orifice (capillary-droplets
 paper, Fig. 2c-d). Extra CSVs (--compare) are overlaid, e.g. a measured profile or another run.
 
-usage: plot_orifice_profile.py PROFILE.csv OUT.png [--compare OTHER.csv LABEL]...
+usage: plot_orifice_profile.py PROFILE.csv OUT.png [--label LABEL] [--compare OTHER.csv LABEL]...
 """
 import argparse
 import csv
@@ -26,9 +26,10 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("profile")
     ap.add_argument("png")
+    ap.add_argument("--label", default="simulation", help="legend label of PROFILE.csv")
     ap.add_argument("--compare", nargs=2, action="append", default=[], metavar=("CSV", "LABEL"))
     args = ap.parse_args()
-    runs = [(read(args.profile), "simulation")] + [(read(p), label) for p, label in args.compare]
+    runs = [(read(args.profile), args.label)] + [(read(p), label) for p, label in args.compare]
     fig, (ax_v, ax_a) = plt.subplots(2, 1, sharex=True, figsize=(5, 6))
     for data, label in runs:
         if "vg_over_vt" in data:

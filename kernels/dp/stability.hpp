@@ -6,11 +6,12 @@
 // sum of positive semi-definite Hessians) and asks ω Δt ≤ 1. Each vertex has mass m = M/N_v.
 //   wall/obstacle repulsion (capillary eq. 3): ∂²U/∂d² = 4ε_w/δ²        ⇒ ω² = 4ε_w/(δ² m)
 //   line tension γP (eq. 2): a chain under tension γ, spacing l           ⇒ ω² = 4γ/(l m)
-//     with l = l0/10: gravity acts on the vertices and the weak segment springs (K_l/Γ = 10⁻³)
-//     let them slide down a resting droplet's interface and crowd there (edges of l0/10 measured
-//     at Γ = 10 in the orifice); a Γ = 10 droplet pressed into the orifice was unstable at
-//     Δt = 7.8·10⁻⁴ (the limit with l = l0), kept a slow numerically heated oscillation at 4.6·10⁻⁴
-//     (l = l0/4) and came to rest at 2·10⁻⁴ (docs/droplets.md).
+//     with l = l0/20: gravity acts on the vertices and the weak segment springs (K_l/Γ = 10⁻³)
+//     let them slide down a resting droplet's interface and crowd there (edges below l0/10
+//     measured at Γ = 10 in the orifice). A Γ = 10, N_v = 256 droplet held in the orifice was
+//     unstable at Δt = 7.8·10⁻⁴ (the limit with l = l0), kept a numerically heated oscillation of
+//     its centre at 4.6·10⁻⁴ (l0/4) and a vertex jitter E_k/E_t ~ 10⁻⁶–10⁻⁴ at rest at 3.0·10⁻⁴
+//     (l0/10), and decayed steadily at 2·10⁻⁴ (docs/droplets.md).
 //   segment springs k_l N_v (eq. 1): a chain of springs k_l N_v           ⇒ ω² = 4 k_l N_v/m
 //   area elasticity k_a (eq. 1): rank one, k_a |∇a|², |∇a|² = Σ l_i² ≈ P l0 ⇒ ω² = k_a P l0/m
 //   bending k_b (hopper eq. 8): highest mode of a discrete curvature chain ⇒ ω² = 16 k_b/(l0² m)
@@ -72,7 +73,7 @@ struct StabilityLimit {
   }
 };
 
-constexpr double crowded_edge_fraction = 0.1;  // l/l0 for the line-tension mode (see above)
+constexpr double crowded_edge_fraction = 0.05;  // l/l0 for the line-tension mode (see above)
 
 inline StabilityLimit stability_limit(const StiffnessInputs& s) {
   StabilityLimit r;
