@@ -2,8 +2,10 @@
 
 #include "kernels/io/hdf5_util.hpp"
 
+#include <cstdlib>
 #include <fstream>
 #include <iomanip>
+#include <iostream>
 #include <stdexcept>
 
 namespace mesoflow::driver {
@@ -45,6 +47,20 @@ void write_observables_csv(const std::string& h5md_path, const std::string& csv_
     csv << '\n';
   }
   if (!csv) throw std::runtime_error("error while writing " + csv_path);
+}
+
+void plot_with_matplotlib(const std::string& driver, const std::string& script, const std::vector<std::string>& arguments,
+                          const std::string& png, bool quiet) {
+  auto quoted = [](const std::string& a) {
+    std::string q = "'";
+    for (char c : a) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    return q + "'";
+  };
+  std::string command = "/usr/bin/python3 " + quoted(std::string(MESOFLOW_SOURCE_DIR) + "/scripts/" + script);
+  for (const auto& a : arguments) command += " " + quoted(a);
+  if (quiet) command += " >/dev/null 2>&1";
+  if (std::system(command.c_str()) != 0)
+    std::cerr << driver << ": warning: the plot " << png << " was not written (python3-matplotlib missing?)\n";
 }
 
 }  // namespace mesoflow::driver

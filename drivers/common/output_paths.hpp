@@ -18,4 +18,10 @@ struct OutputPaths {
 void write_observables_csv(const std::string& h5md_path, const std::string& csv_path,
                            const std::vector<std::string>& names);
 
+// Runs scripts/<script> of the source tree with Debian's /usr/bin/python3 (python3-matplotlib;
+// whatever python3 comes first on PATH may lack it) and `arguments`, each single-quoted, to write
+// `png`. A failure is a warning naming the plot, not an error: the CSV beside it holds the data.
+void plot_with_matplotlib(const std::string& driver, const std::string& script, const std::vector<std::string>& arguments,
+                          const std::string& png, bool quiet);
+
 }  // namespace mesoflow::driver

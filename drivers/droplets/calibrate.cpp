@@ -21,7 +21,6 @@
 #include "drivers/droplets/calibrate.hpp"
 
 #include <chrono>
-#include <cstdlib>
 #include <fstream>
 #include <iomanip>
 #include <iostream>
@@ -96,13 +95,11 @@ void run(Parameters par, const cli::DriverApp& app) {
        << ",\n  \"speed_deviation\": " << result.speed_deviation << ",\n  \"converged\": "
        << (result.converged ? "true" : "false") << ",\n  \"evaluations\": " << result.history.size()
        << ",\n  \"wall_seconds\": " << wall << ",\n  \"kokkos\": \"" << kokkos_configuration() << "\"\n}\n";
-  if (!par.no_plot) {
-    const std::string command = std::string("python3 '") + MESOFLOW_SOURCE_DIR + "/scripts/plot_orifice_profile.py' '" +
-                                stem + ".best.csv' '" + stem + ".png' --compare '" + par.measured + "' measured" +
-                                (app.quiet() ? " >/dev/null 2>&1" : "");
-    if (std::system(command.c_str()) != 0)
-      std::cerr << "calibrate: warning: the plot " << stem << ".png was not written (python3-matplotlib missing?)\n";
-  }
+  if (!par.no_plot)
+    driver::plot_with_matplotlib("calibrate", "plot_orifice_profile.py",
+                                 {stem + ".best.csv", stem + ".png", "--label", "best fit", "--compare", par.measured,
+                                  "measured"},
+                                 stem + ".png", app.quiet());
   if (!app.quiet())
     std::cout << "calibrate: Γ = " << result.line_tension << ", b0/b∞ = " << result.near_wall_drag
               << ", Δ_v = " << result.speed_deviation << " after " << result.history.size() << " orifice runs in "

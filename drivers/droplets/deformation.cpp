@@ -19,7 +19,6 @@
 #include "drivers/droplets/deformation.hpp"
 
 #include <chrono>
-#include <cstdlib>
 #include <fstream>
 #include <iomanip>
 #include <iostream>
@@ -117,10 +116,7 @@ void run(const Parameters& par, const cli::DriverApp& app) {
   json << "},\n  \"kokkos\": \"" << kokkos_configuration() << "\"\n}\n";
   if (!par.no_plot) {
     const std::string png = out.csv.substr(0, out.csv.size() - 4) + ".png";
-    const std::string command = std::string("python3 '") + MESOFLOW_SOURCE_DIR + "/scripts/plot_deformation.py' '" +
-                                out.csv + "' '" + png + "'" + (app.quiet() ? " >/dev/null 2>&1" : "");
-    if (std::system(command.c_str()) != 0)
-      std::cerr << "deformation: warning: the plot " << png << " was not written (python3-matplotlib missing?)\n";
+    driver::plot_with_matplotlib("deformation", "plot_deformation.py", {out.csv, png}, png, app.quiet());
   }
   if (!all_converged) throw std::runtime_error("FIRE did not reach --force-tolerance for every value (see " + out.csv + ")");
 }

@@ -22,7 +22,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <cstdlib>
 #include <fstream>
 #include <iomanip>
 #include <iostream>
@@ -47,16 +46,6 @@ void write_profile_csv(const std::string& path, const droplets::OrificeProfile& 
   for (std::size_t i = 0; i < prof.t.size(); ++i)
     csv << prof.t[i] << ',' << prof.h[i] << ',' << prof.vg[i] / vt << ',' << prof.shape[i] << ',' << prof.area[i]
         << ',' << prof.kinetic[i] << '\n';
-}
-
-// PNG of the profiles (scripts/plot_orifice_profile.py with Debian's /usr/bin/python3 and
-// python3-matplotlib, whatever python3 comes first on PATH); a missing
-// matplotlib is reported, not fatal: the CSV holds the same data.
-void plot_profile(const std::string& csv, const std::string& png, bool quiet) {
-  const std::string command = std::string("/usr/bin/python3 '") + MESOFLOW_SOURCE_DIR + "/scripts/plot_orifice_profile.py' '" +
-                              csv + "' '" + png + "'" + (quiet ? " >/dev/null 2>&1" : "");
-  if (std::system(command.c_str()) != 0)
-    std::cerr << "orifice: warning: the plot " << png << " was not written (python3-matplotlib missing?)\n";
 }
 
 void run(const Parameters& par, const cli::DriverApp& app) {
@@ -115,7 +104,10 @@ void run(const Parameters& par, const cli::DriverApp& app) {
        << ",\n  \"free_area_over_a0\": " << prof.free_area << ",\n  \"max_area_error\": " << prof.max_area_error
        << ",\n  \"wall_seconds\": " << wall << ",\n  \"steps_per_second\": " << (wall > 0 ? prof.steps / wall : 0.0)
        << ",\n  \"kokkos\": \"" << kokkos_configuration() << "\"\n}\n";
-  if (!par.no_plot) plot_profile(out.csv, out.trajectory.substr(0, out.trajectory.size() - 3) + ".png", app.quiet());
+  if (!par.no_plot) {
+    const std::string png = out.csv.substr(0, out.csv.size() - 4) + ".png";
+    driver::plot_with_matplotlib("orifice", "plot_orifice_profile.py", {out.csv, png}, png, app.quiet());
+  }
   if (!app.quiet())
     std::cout << "orifice: " << droplets::to_string(prof.outcome) << " at t = " << prof.t.back() << " t0, h = "
               << prof.h.back() << "σ; max 𝒜 = " << shape_max << ", max v_g/v_t after the orifice = " << vmax_after

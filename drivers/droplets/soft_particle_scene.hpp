@@ -163,33 +163,9 @@ class SoftParticleScene {
   // f += eq. 8 summed over every obstacle of the droplet's array that it overlaps, and the drag of
   // eq. 10 with coefficient `drag` at velocity `velocity`; returns eq. 8's energy.
   double obstacle_forces(const typename particles_type::vector_view& velocity, Real drag_coefficient) {
-    const auto x = p_.x, f = p_.f;
-    const auto v = velocity;
-    const auto array = array_;
-    const auto obstacles = surfaces_.obstacles();
-    const sp::ObstacleRepulsion<Real> repulsion(Real(par_.wall_energy), Real(1));
-    const sp::ViscousDrag<Real> drag(drag_coefficient);
-    const Real reach = Real(0.5) + obstacles.radius();  // centre distance below which eq. 8 acts
-    double energy = 0;
-    Kokkos::parallel_reduce(
-        "mesoflow::soft_particle_scene::obstacle_forces", Kokkos::RangePolicy<ExecSpace>(0, p_.size()),
-        KOKKOS_LAMBDA(int i, double& acc) {
-          const Vec<2, Real> xi = Vec<2, Real>::load(x, i);
-          Vec<2, Real> fi = Vec<2, Real>::zero();
-          obstacles.for_each_within(array(i), xi, reach, [&](const Vec<2, Real>& image) {
-            const Vec<2, Real> dr = xi - image;
-            const Real r = kmath::sqrt(norm2(dr));
-            Real f_n, u;
-            if (r > Real(0) && repulsion.contact(r - obstacles.radius(), f_n, u)) {
-              fi += (f_n / r) * dr;
-              acc += double(u);
-            }
-          });
-          drag.evaluate(SurfacePoint<2, Real>{}, Vec<2, Real>::load(v, i), fi, acc);
-          for (int d = 0; d < 2; ++d) f(i, d) += fi[d];
-        },
-        energy);
-    return energy;
+    return accumulate_surface_forces(ParticleArraySurfaces<Real, ExecSpace>{surfaces_, array_}, p_, velocity,
+                                     sp::ObstacleRepulsion<Real>(Real(par_.wall_energy), Real(1)),
+                                     sp::ViscousDrag<Real>(drag_coefficient));
   }
 
   // f ← M g (or 0).

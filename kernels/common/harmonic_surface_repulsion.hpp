@@ -1,13 +1,16 @@
 // harmonic_surface_repulsion.hpp — purely repulsive harmonic contact between a particle of
-// diameter δ and the nearest surface of a scene,
-//   U = (ε/2)(1 − 2d/δ)² Θ(1 − 2d/δ),
-// d the signed distance from the particle's centre to the surface. The force −∇U =
-// (2ε/δ)(1 − 2d/δ) n points along the surface normal n into the fluid and keeps growing past
-// contact (d < 0: the centre is inside a wall). The same law is the DP vertex–wall repulsion
-// (capillary-droplets eq. 3, δ the vertex diameter; dp/vertex_wall_repulsion.hpp) and the SP
-// droplet–obstacle repulsion (eq. 8, δ = σ the droplet diameter; sp/obstacle_repulsion.hpp). Add it
-// with accumulate_surface_forces (surface_force.hpp), which queries the nearest surface once per
-// particle.
+// diameter δ and every surface of a scene it overlaps (a pair potential particle–surface),
+//   U = Σ_s (ε/2)(1 − 2d_s/δ)² Θ(1 − 2d_s/δ),
+// d_s the signed distance from the particle's centre to surface s (a wall shape or one obstacle).
+// Each term's force (2ε/δ)(1 − 2d_s/δ) n_s points along that surface's normal into the fluid and
+// keeps growing past contact (d_s < 0: the centre is inside a wall). Summed over every surface in
+// reach, not the nearest alone: a particle in a gap narrower than δ overlaps two obstacles, and with
+// the nearest alone the force would jump where the nearer of the two changes, so energy would not be
+// conserved and a particle held in such a gap would never come to rest (docs/droplets.md,
+// deviation 3). The same law is the DP vertex–wall repulsion (capillary-droplets eq. 3, δ the
+// vertex diameter; dp/vertex_wall_repulsion.hpp) and the SP droplet–obstacle repulsion (eq. 8,
+// δ = σ the droplet diameter; sp/obstacle_repulsion.hpp). A pairwise term of
+// accumulate_surface_forces (surface_force.hpp).
 #pragma once
 
 #include "geometry.hpp"
@@ -23,6 +26,7 @@ namespace mesoflow {
 
 template <class Real>
 struct HarmonicSurfaceRepulsion {
+  static constexpr bool pairwise = true;
   Real epsilon;        // ε
   Real two_over_size;  // 2/δ
   Real range;          // δ/2: no force at d ≥ δ/2
@@ -49,8 +53,10 @@ struct HarmonicSurfaceRepulsion {
     return true;
   }
 
-  KOKKOS_INLINE_FUNCTION void evaluate(const SurfacePoint<2, Real>& s, const Vec<2, Real>&, Vec<2, Real>& force,
-                                       double& energy) const {
+  Real reach() const { return range; }
+
+  // The contact with one surface in reach.
+  KOKKOS_INLINE_FUNCTION void evaluate_pair(const SurfacePoint<2, Real>& s, Vec<2, Real>& force, double& energy) const {
     Real f_n, u;
     if (contact(s.distance, f_n, u)) {
       force += f_n * s.normal;
