@@ -15,6 +15,9 @@
 // beyond λ ≈ 24σ of App. C, so a replica rarely revisits its own obstacles before it clogs; with
 // v ≤ v_t = 0.08 a droplet travels at most 16σ in 200 t0, so many replicas at the paper's point are
 // right-censored, which the estimator of λ accounts for (raise --time-limit to narrow the interval).
+// K_l/Γ defaults to 0.1, not the paper's 10⁻³: a held droplet's vertices slide along its interface
+// at the rate π² k_l/b∞ (docs/droplets.md, deviation 4), so at 10⁻³ E_k reaches the clog threshold
+// only after ~10⁴ t0 at Γ ≈ 1 and every replica would end right-censored within T.
 //
 // Output (<out> = --output without its extension): <out>.h5 (H5MD-style: /h5md, /parameters as
 // attributes, /results/replicas, /results/points, /results/survival), <out>.csv (one row per sweep
@@ -57,7 +60,7 @@ struct Parameters {
   double confidence = 0.95;
   int vertices = 64;
   double area_stiffness = 1e4;
-  double perimeter_ratio = 1e-3;  // K_l/Γ (App. B): weaker springs let the vertices crowd under gravity
+  double perimeter_ratio = 0.1;  // K_l/Γ (see the file comment; the paper: 10⁻³)
   double dp_wall_energy = 0.05;
   double near_wall_drag = 0.0;
   double terminal_speed = 0.08;
