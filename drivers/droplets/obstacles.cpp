@@ -55,6 +55,7 @@ struct Parameters {
   int batch = 16;
   double box_length = 40.0;
   double obstacle_diameter = 0.3;
+  double obstacle_fraction = 0;  // φ; 0: maximal Poisson-disk arrays
   double time_limit = 200.0;
   double clog_threshold = 1e-17;
   double confidence = 0.95;
@@ -310,6 +311,7 @@ ObstacleEnsembleParameters ensemble_parameters(const Parameters& par, const Swee
   ens.soft.dt = par.dt;
   ens.box_length = par.box_length;
   ens.obstacle_diameter = par.obstacle_diameter;
+  ens.obstacle_fraction = par.obstacle_fraction;
   ens.gap = point.gap;
   ens.time_limit = par.time_limit;
   ens.clog_threshold = par.clog_threshold;
@@ -437,6 +439,8 @@ int main(int argc, char** argv) {
   app.add_int("--batch", par.batch, "replicas advanced together in one set of kernel launches", 1, 100000);
   app.add_real("--box-length", par.box_length, "side L/σ of the periodic box", 10.0, 2000.0);
   app.add_real("--obstacle-diameter", par.obstacle_diameter, "obstacle diameter σ_ob/σ", 0.01, 10.0);
+  app.add_real("--obstacle-fraction", par.obstacle_fraction,
+               "obstacle area fraction φ (0: maximal Poisson-disk arrays, the densest the gap allows)", 0.0, 0.5);
   app.add_positive("--time-limit", par.time_limit, "run time T/t0 of a replica that does not clog");
   app.add_real("--clog-threshold", par.clog_threshold, "clog when E_k/E_t falls below this (App. C)", 0.0, 1.0,
                Bounds::open);

@@ -41,6 +41,7 @@ struct ObstacleEnsembleParameters {
   SoftParticleParameters soft;    // SP
   double box_length = 40.0;       // L/σ
   double obstacle_diameter = 0.3; // σ_ob/σ
+  double obstacle_fraction = 0;   // area fraction φ of the obstacles; 0: maximal Poisson-disk arrays (densest)
   double gap = 0.2;               // w_ob/σ, the minimum surface-to-surface gap of the array
   double time_limit = 200.0;      // T/t0
   double clog_threshold = 1e-17;  // on E_k/E_t (App. C)
@@ -62,6 +63,12 @@ inline std::uint64_t replica_seed(std::uint64_t seed, int replica) {
   z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
   z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
   return z ^ (z >> 31);
+}
+
+// Obstacles per array at area fraction φ: φ L² / (π σ_ob²/4).
+inline std::size_t obstacle_count(const ObstacleEnsembleParameters& par) {
+  const double area = 0.25 * 3.14159265358979323846 * par.obstacle_diameter * par.obstacle_diameter;
+  return std::size_t(std::llround(par.obstacle_fraction * par.box_length * par.box_length / area));
 }
 
 namespace ensemble_detail {
@@ -149,7 +156,10 @@ void run_obstacle_batch(const ObstacleEnsembleParameters& par, const std::vector
   const Real diameter = Real(par.obstacle_diameter), cell = Real(par.obstacle_diameter + par.gap);
   std::vector<std::vector<Vec<2, double>>> arrays;
   for (const std::uint64_t seed : seeds)
-    arrays.push_back(poisson_disk_obstacles(par.box_length, par.box_length, par.obstacle_diameter, par.gap, seed));
+    arrays.push_back(par.obstacle_fraction > 0
+                         ? random_sequential_obstacles(par.box_length, par.box_length, par.obstacle_diameter, par.gap,
+                                                       obstacle_count(par), seed)
+                         : poisson_disk_obstacles(par.box_length, par.box_length, par.obstacle_diameter, par.gap, seed));
   const Vec<2, double> centre{{0.5 * par.box_length, 0.5 * par.box_length}};
   std::vector<int> which(std::size_t(n), 0);  // replica k in array k
   std::iota(which.begin(), which.end(), 0);

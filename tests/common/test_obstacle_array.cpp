@@ -20,6 +20,7 @@
 #include <limits>
 #include <random>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 namespace {
@@ -99,6 +100,35 @@ TEST(PoissonDiskObstacles, SameArrayForASeedAnotherForAnotherSeed) {
   bool differs = a.size() != c.size();
   for (std::size_t i = 0; !differs && i < a.size(); ++i) differs = a[i][0] != c[i][0] || a[i][1] != c[i][1];
   EXPECT_TRUE(differs);
+}
+
+// Sparser arrays at a set obstacle count (random sequential addition): exactly that many centres,
+// the same minimum separation, reproducible, and a count that cannot fit refused.
+TEST(RandomSequentialObstacles, PlacesTheCountAtTheMinimumSeparation) {
+  const double L = 20.0, sigma_ob = 0.3, w_ob = 0.2;
+  const std::size_t count = 200;  // area fraction 200 · π 0.15² / 400 ≈ 0.035
+  const auto c = mesoflow::random_sequential_obstacles(L, L, sigma_ob, w_ob, count, 5);
+  ASSERT_EQ(c.size(), count);
+  double closest = std::numeric_limits<double>::max();
+  for (std::size_t i = 0; i < c.size(); ++i) {
+    EXPECT_TRUE(c[i][0] >= 0 && c[i][0] < L && c[i][1] >= 0 && c[i][1] < L);
+    for (std::size_t j = i + 1; j < c.size(); ++j) closest = std::min(closest, image_distance(c[i], c[j], L, L));
+  }
+  EXPECT_GE(closest, sigma_ob + w_ob);
+  const auto again = mesoflow::random_sequential_obstacles(L, L, sigma_ob, w_ob, count, 5);
+  for (std::size_t i = 0; i < c.size(); ++i) EXPECT_EQ(c[i][0], again[i][0]);
+  // Sparser than the maximal sample of the same gap.
+  EXPECT_LT(c.size(), mesoflow::poisson_disk_obstacles(L, L, sigma_ob, w_ob, 5).size() / 4);
+}
+
+TEST(RandomSequentialObstacles, RefusesACountThatDoesNotFit) {
+  // A maximal sample of this box holds ~0.7 centres per (σ_ob + w_ob)²: 4000 in 20 × 20 at 0.5 cannot fit.
+  try {
+    mesoflow::random_sequential_obstacles(20.0, 20.0, 0.3, 0.2, 4000, 1);
+    FAIL() << "4000 obstacles accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("lower the obstacle fraction"), std::string::npos) << e.what();
+  }
 }
 
 TEST(PoissonDiskObstacles, RefusesInvalidParameters) {
