@@ -256,9 +256,33 @@ struct Cylinder {
   }
 };
 
+// A 2D wedge revolved about an axis in 3D: in every meridian half-plane (ρ ≥ 0 from the axis, z along
+// it) the solid is the same wedge (apex, edge 0, edge 1 in (ρ, z) coordinates, kept in ρ ≥ 0). The flat
+// base of a cylindrical hopper with a circular orifice of diameter w is the wedge with apex (w/2, 0)
+// between the base plane (1, 0) and a downward face; a conical base tilts the first edge. The nearest
+// point of a solid of revolution lies in the query's own meridian half-plane, so the 2D wedge distance
+// is exact. On the axis the meridian is a fixed direction perpendicular to it.
+template <class Real>
+struct RevolvedWedge {
+  Vec<3, Real> origin;  // a point on the axis, z = 0
+  Vec<3, Real> axis;    // unit direction of the axis (+z)
+  Wedge<Real> profile;  // in (ρ, z)
+
+  KOKKOS_INLINE_FUNCTION SurfacePoint<3, Real> query(const Vec<3, Real>& x) const {
+    const Vec<3, Real> r = x - origin;
+    const Real along = dot(r, axis);
+    const Vec<3, Real> radial = geometry_detail::cross(geometry_detail::cross(axis, r), axis);
+    const Real rho = geometry_detail::length(radial);
+    const Vec<3, Real> outward =
+        rho > Real(0) ? (Real(1) / rho) * radial : geometry_detail::any_perpendicular(axis);
+    const SurfacePoint<2, Real> m = profile.query(Vec<2, Real>{{rho, along}});
+    return {m.distance, origin + m.point[1] * axis + m.point[0] * outward, m.normal[0] * outward + m.normal[1] * axis};
+  }
+};
+
 // Tags of Shape::kind.
 struct ShapeKind {
-  enum : int { none = 0, half_space, segment, wedge, ball, cylinder };
+  enum : int { none = 0, half_space, segment, wedge, ball, cylinder, revolved_wedge };
 };
 
 // One primitive of a scene as a tagged union, so that a scene is a plain array of Shapes (a
@@ -270,6 +294,7 @@ struct ShapeKind {
 //   wedge       apex, unit edge 0, unit edge 1, normal 0, normal 1  (2D)
 //   ball        center, radius                                      (disk in 2D, sphere in 3D)
 //   cylinder    origin, unit axis, radius                           (3D)
+//   revolved_wedge origin, unit axis, (ρ, z) apex, unit edge 0, unit edge 1 (3D)
 // A kind that does not exist in D dimensions (a segment in 3D) is treated as no surface.
 // `inverted` swaps solid and fluid for every kind (d → −d, n → −n). A default Shape (kind none) is no
 // surface at all: its query is no_surface(x).
@@ -348,6 +373,29 @@ struct Shape {
     return s;
   }
 
+  // The solid of revolution of the 2D wedge (apex, edge_a, edge_b), given in (ρ, z) coordinates around
+  // the axis through `origin` along `axis` (fluid inside if inverted); the wedge must lie in ρ ≥ 0.
+  static Shape revolved_wedge(const Vec<3, Real>& origin, const Vec<3, Real>& axis, const Vec<2, Real>& apex,
+                              const Vec<2, Real>& edge_a, const Vec<2, Real>& edge_b, bool inverted = false) {
+    static_assert(D == 3, "mesoflow: a revolved wedge is a 3D shape");
+    require_nonzero(axis, "revolved_wedge: axis");
+    require_nonzero(edge_a, "revolved_wedge: edge_a");
+    require_nonzero(edge_b, "revolved_wedge: edge_b");
+    const Wedge<Real> w = Wedge<Real>::from_edges(apex, edge_a, edge_b);
+    if (geometry_detail::cross(w.edge[0], w.edge[1]) == Real(0))
+      throw std::invalid_argument("revolved_wedge: the edges are parallel");
+    if (!(apex[0] >= Real(0)) || w.edge[0][0] < Real(0) || w.edge[1][0] < Real(0))
+      throw std::invalid_argument("revolved_wedge: the wedge must lie at rho >= 0 (apex and edges pointing away from the axis)");
+    Shape s(ShapeKind::revolved_wedge, inverted);
+    const Vec<3, Real> k = geometry_detail::unit(axis);
+    s.set_vec(0, origin);
+    s.set_vec(3, k);
+    s.p[6] = apex[0], s.p[7] = apex[1];
+    s.p[8] = w.edge[0][0], s.p[9] = w.edge[0][1];
+    s.p[10] = w.edge[1][0], s.p[11] = w.edge[1][1];
+    return s;
+  }
+
   KOKKOS_INLINE_FUNCTION SurfacePoint<D, Real> query(const Vec<D, Real>& x) const {
     SurfacePoint<D, Real> s;
     switch (kind) {
@@ -372,6 +420,15 @@ struct Shape {
       case ShapeKind::cylinder:
         if constexpr (D == 3)
           s = Cylinder<Real>{vec_at(0), vec_at(3), p[6], false}.query(x);
+        else
+          return no_surface(x);
+        break;
+      case ShapeKind::revolved_wedge:
+        if constexpr (D == 3)
+          s = RevolvedWedge<Real>{vec_at(0), vec_at(3),
+                                  Wedge<Real>::from_edges(Vec<2, Real>{{p[6], p[7]}}, Vec<2, Real>{{p[8], p[9]}},
+                                                          Vec<2, Real>{{p[10], p[11]}})}
+                  .query(x);
         else
           return no_surface(x);
         break;
@@ -451,6 +508,52 @@ std::array<Shape<2, Real>, 2> orifice_wedges(Real w, Real center_x, Real y_orifi
   using V = Vec<2, Real>;
   return {{Shape<2, Real>::wedge(V{{center_x - half, y_orifice}}, V{{Real(-1), Real(0)}}, V{{-s, c}}),
            Shape<2, Real>::wedge(V{{center_x + half, y_orifice}}, V{{Real(1), Real(0)}}, V{{s, c}})}};
+}
+
+// The walls of the hopper study (hopper paper §2.1), gravity along −y (2D) or −z (3D), the orifice
+// centred on the axis at height 0. 2D: two side walls W apart (x = ±W/2) that meet the exit walls at
+// the angle θ_w; the exit walls leave an orifice of width w. 3D: a cylinder of diameter W with a base
+// at angle θ_w to the side wall (θ_w = 90°: flat) holding a circular orifice of diameter w. Each exit
+// wall is a solid wedge whose upstream face is the wall and whose downstream face leaves the orifice
+// rim 30° below it, so that nothing but the wall itself touches the flow and particles fall freely past
+// the orifice. 0 < θ_w ≤ 90°, 0 < w < W.
+constexpr double hopper_exit_wall_opening = 30.0;  // degrees between an exit wall and its downstream face
+
+template <class Real>
+std::vector<Shape<2, Real>> hopper_walls_2d(Real W, Real w, Real theta_w_degrees) {
+  if (!(W > Real(0)) || !std::isfinite(W)) throw std::invalid_argument("hopper: width W must be finite and > 0");
+  if (!(w > Real(0) && w < W)) throw std::invalid_argument("hopper: orifice w must lie in (0, W), got " + std::to_string(w));
+  if (!(theta_w_degrees > Real(0) && theta_w_degrees <= Real(90)))
+    throw std::invalid_argument("hopper: wall angle theta_w must lie in (0, 90] degrees, got " +
+                                std::to_string(theta_w_degrees));
+  using V = Vec<2, Real>;
+  const double theta = double(theta_w_degrees) * geometry_detail::pi / 180;
+  const double below = theta + hopper_exit_wall_opening * geometry_detail::pi / 180;
+  const V wall{{Real(std::sin(theta)), Real(std::cos(theta))}};  // from the right rim, outward and up
+  const V under{{Real(std::sin(below)), Real(std::cos(below))}};
+  const Real half = Real(0.5) * W, rim = Real(0.5) * w;
+  return {Shape<2, Real>::half_space(V{{-half, Real(0)}}, V{{Real(1), Real(0)}}),
+          Shape<2, Real>::half_space(V{{half, Real(0)}}, V{{Real(-1), Real(0)}}),
+          Shape<2, Real>::wedge(V{{-rim, Real(0)}}, V{{-wall[0], wall[1]}}, V{{-under[0], under[1]}}),
+          Shape<2, Real>::wedge(V{{rim, Real(0)}}, wall, under)};
+}
+
+template <class Real>
+std::vector<Shape<3, Real>> hopper_walls_3d(Real W, Real w, Real theta_w_degrees) {
+  if (!(W > Real(0)) || !std::isfinite(W)) throw std::invalid_argument("hopper: diameter W must be finite and > 0");
+  if (!(w > Real(0) && w < W)) throw std::invalid_argument("hopper: orifice w must lie in (0, W), got " + std::to_string(w));
+  if (!(theta_w_degrees > Real(0) && theta_w_degrees <= Real(90)))
+    throw std::invalid_argument("hopper: wall angle theta_w must lie in (0, 90] degrees, got " +
+                                std::to_string(theta_w_degrees));
+  using V3 = Vec<3, Real>;
+  using V2 = Vec<2, Real>;
+  const double theta = double(theta_w_degrees) * geometry_detail::pi / 180;
+  const double below = theta + hopper_exit_wall_opening * geometry_detail::pi / 180;
+  const V3 origin{{Real(0), Real(0), Real(0)}}, axis{{Real(0), Real(0), Real(1)}};
+  return {Shape<3, Real>::cylinder(origin, axis, Real(0.5) * W, true),
+          Shape<3, Real>::revolved_wedge(origin, axis, V2{{Real(0.5) * w, Real(0)}},
+                                         V2{{Real(std::sin(theta)), Real(std::cos(theta))}},
+                                         V2{{Real(std::sin(below)), Real(std::cos(below))}})};
 }
 
 // Host-side owner of a scene: copies the shapes to ExecSpace's memory once, at construction, and hands

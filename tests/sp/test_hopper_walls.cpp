@@ -1,0 +1,170 @@
+// Hopper walls (kernels/common/geometry.hpp: hopper_walls_2d/3d, the revolved wedge) and the
+// soft-particle wall repulsion of eq. 3 (kernels/sp/wall_repulsion.hpp): the walls are where the
+// hopper paper puts them (side walls W apart, an orifice of width w at height 0, the exit walls at
+// θ_w); the 3D base is the 2D profile revolved (rotating a point about the axis keeps its distance);
+// the repulsion is minus the gradient of its energy near walls, corners and the orifice rim in 2D and
+// 3D, sums the walls a particle overlaps, and depends on the particle's own diameter.
+#include "kernels/common/geometry.hpp"
+#include "kernels/sp/wall_repulsion.hpp"
+#include "test_types.hpp"
+
+#include <cmath>
+#include <iostream>
+#include <random>
+#include <vector>
+
+namespace mesoflow {
+namespace {
+
+using Exec = Kokkos::DefaultExecutionSpace;
+using V2 = Vec<2, double>;
+using V3 = Vec<3, double>;
+
+double nearest_distance2(const std::vector<Shape<2, double>>& walls, const V2& x) {
+  return nearest_surface(walls.data(), int(walls.size()), x).distance;
+}
+double nearest_distance3(const std::vector<Shape<3, double>>& walls, const V3& x) {
+  return nearest_surface(walls.data(), int(walls.size()), x).distance;
+}
+
+TEST(HopperWalls, FlatBottomed2DHopperHasItsWallsAndOrifice) {
+  const auto walls = hopper_walls_2d<double>(30.0, 4.0, 90.0);
+  EXPECT_NEAR(nearest_distance2(walls, V2{{0.0, 10.0}}), std::sqrt(104.0), 1e-12);  // above the orifice: its rims
+  EXPECT_NEAR(nearest_distance2(walls, V2{{8.0, 10.0}}), 7.0, 1e-12);              // the side wall x = 15
+  EXPECT_NEAR(nearest_distance2(walls, V2{{12.0, 10.0}}), 3.0, 1e-12);   // 3 from the side wall x = 15
+  EXPECT_NEAR(nearest_distance2(walls, V2{{8.0, 0.5}}), 0.5, 1e-12);     // above the exit wall
+  EXPECT_NEAR(nearest_distance2(walls, V2{{0.0, 0.0}}), 2.0, 1e-12);     // orifice centre: the rims
+  EXPECT_GT(nearest_distance2(walls, V2{{0.0, -1.0}}), 1.0);  // falling freely below the orifice
+  EXPECT_LT(nearest_distance2(walls, V2{{8.0, -0.5}}), 0.0);  // inside the exit wall
+  EXPECT_THROW(hopper_walls_2d<double>(30.0, 40.0, 90.0), std::invalid_argument);
+  EXPECT_THROW(hopper_walls_2d<double>(30.0, 4.0, 0.0), std::invalid_argument);
+  EXPECT_THROW(hopper_walls_2d<double>(30.0, 4.0, 120.0), std::invalid_argument);
+}
+
+TEST(HopperWalls, SlantedExitWallsMeetTheSideWallsAtThetaW) {
+  const double theta = 60.0, t = theta * M_PI / 180;
+  const auto walls = hopper_walls_2d<double>(30.0, 4.0, theta);
+  // A point above the right exit wall, along its normal: the wall through (2, 0) along (sin θ, cos θ).
+  const V2 on_wall{{2.0 + 5 * std::sin(t), 5 * std::cos(t)}};
+  const V2 normal{{-std::cos(t), std::sin(t)}};
+  EXPECT_NEAR(nearest_distance2(walls, on_wall + 0.7 * normal), 0.7, 1e-12);
+}
+
+TEST(HopperWalls, CylindricalHopperBaseIsTheRevolvedProfile) {
+  const auto walls3 = hopper_walls_3d<double>(20.0, 4.0, 90.0);
+  EXPECT_NEAR(nearest_distance3(walls3, V3{{0.0, 0.0, 6.0}}), std::sqrt(40.0), 1e-12);  // axis: the rim
+  EXPECT_NEAR(nearest_distance3(walls3, V3{{0.0, 8.5, 5.0}}), 1.5, 1e-12);   // near the cylinder
+  EXPECT_NEAR(nearest_distance3(walls3, V3{{5.0, 0.0, 0.4}}), 0.4, 1e-12);   // above the base
+  EXPECT_NEAR(nearest_distance3(walls3, V3{{0.0, 0.0, 0.0}}), 2.0, 1e-12);   // orifice centre: the rim
+  // Any meridian gives the 2D profile's distance: rotate points about the axis.
+  const auto walls2 = hopper_walls_2d<double>(20.0, 4.0, 90.0);
+  std::mt19937 gen(3);
+  std::uniform_real_distribution<double> u(-9.5, 9.5), z(-3.0, 6.0), phi(0, 2 * M_PI);
+  for (int k = 0; k < 200; ++k) {
+    const double x = u(gen), y = z(gen), a = phi(gen);
+    const V3 p{{std::abs(x) * std::cos(a), std::abs(x) * std::sin(a), y}};
+    EXPECT_NEAR(nearest_distance3(walls3, p), nearest_distance2(walls2, V2{{std::abs(x), y}}), 1e-12)
+        << "rho " << std::abs(x) << " z " << y;
+  }
+  const auto crossing_the_axis = [] {
+    return Shape<3, double>::revolved_wedge(V3{{0, 0, 0}}, V3{{0, 0, 1}}, V2{{1, 0}}, V2{{-1, 0}}, V2{{0, -1}});
+  };
+  EXPECT_THROW(crossing_the_axis(), std::invalid_argument);
+}
+
+// Particles of two sizes scattered near the walls, corners and the orifice rim.
+template <int D>
+struct WallScene {
+  Particles<D, double, Exec> p;
+  Geometry<D, double, Exec> walls;
+  sp::SoftSphereRepulsion<double> sizes{1.0, {1.0, 1.4}};
+
+  WallScene(const std::vector<Shape<D, double>>& shapes, const std::vector<Vec<D, double>>& x)
+      : p(int(x.size()), "walls"), walls(shapes) {
+    auto h = Kokkos::create_mirror_view(p.x);
+    auto t = Kokkos::create_mirror_view(p.type);
+    for (std::size_t i = 0; i < x.size(); ++i) {
+      for (int d = 0; d < D; ++d) h(i, d) = x[i][d];
+      t(i) = int(i % 2);
+    }
+    Kokkos::deep_copy(p.x, h);
+    Kokkos::deep_copy(p.type, t);
+  }
+  double energy() {
+    p.zero_forces();
+    return sp::accumulate_wall_repulsion(50.0, sizes, walls, p);
+  }
+  void shift(int i, int d, double h) {
+    auto x = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), p.x);
+    x(i, d) += h;
+    Kokkos::deep_copy(p.x, x);
+  }
+};
+
+template <int D>
+void expect_wall_force_is_minus_gradient(WallScene<D>& s) {
+  s.energy();
+  auto f = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), s.p.f);
+  const int n = int(s.p.size());
+  double worst = 0, scale = 0;
+  for (int i = 0; i < n; ++i)
+    for (int d = 0; d < D; ++d) scale = std::max(scale, std::abs(f(i, d)));
+  // The force is continuous at contact but its derivative jumps (stiffness ε_w(2/σ)² = 200 here):
+  // a particle within h of d = σ/2 sees an O(h·stiffness) central-difference error, hence h = 10⁻⁷.
+  const double h = 1e-7;
+  for (int i = 0; i < n; ++i)
+    for (int d = 0; d < D; ++d) {
+      s.shift(i, d, h);
+      const double up = s.energy();
+      s.shift(i, d, -2 * h);
+      const double down = s.energy();
+      s.shift(i, d, h);
+      worst = std::max(worst, std::abs(-(up - down) / (2 * h) - f(i, d)) / scale);
+    }
+  std::cout << "[ fd ] wall repulsion " << D << "D: " << n << " particles, max error / max |F| = " << worst << "\n";
+  EXPECT_GT(scale, 1.0);
+  EXPECT_LE(worst, 1e-6);
+}
+
+TEST(WallRepulsion, ForceIsMinusTheEnergyGradient2D) {
+  std::vector<V2> x;
+  std::mt19937 gen(5);
+  std::uniform_real_distribution<double> jitter(-0.35, 0.35);
+  const V2 spots[] = {{{14.7, 5.0}}, {{-14.6, 3.0}}, {{14.6, 0.3}}, {{2.1, 0.3}}, {{-2.2, 0.35}}, {{6.0, 0.25}},
+                      {{0.0, 0.3}},  {{1.9, -0.1}}};  // walls, corners, the rims
+  for (const V2& c : spots)
+    for (int k = 0; k < 3; ++k) x.push_back(V2{{c[0] + jitter(gen), c[1] + jitter(gen)}});
+  WallScene<2> s(hopper_walls_2d<double>(30.0, 4.0, 90.0), x);
+  expect_wall_force_is_minus_gradient(s);
+  WallScene<2> slanted(hopper_walls_2d<double>(30.0, 4.0, 60.0), x);
+  expect_wall_force_is_minus_gradient(slanted);
+}
+
+TEST(WallRepulsion, ForceIsMinusTheEnergyGradient3D) {
+  std::vector<V3> x;
+  std::mt19937 gen(6);
+  std::uniform_real_distribution<double> jitter(-0.35, 0.35);
+  const V3 spots[] = {{{9.6, 0.0, 4.0}}, {{0.0, -9.7, 0.3}}, {{2.1, 0.2, 0.3}}, {{-1.5, 1.4, 0.3}},
+                      {{5.0, 5.0, 0.25}}, {{1.95, 0.0, -0.1}}};
+  for (const V3& c : spots)
+    for (int k = 0; k < 3; ++k) x.push_back(V3{{c[0] + jitter(gen), c[1] + jitter(gen), c[2] + jitter(gen)}});
+  WallScene<3> s(hopper_walls_3d<double>(20.0, 4.0, 90.0), x);
+  expect_wall_force_is_minus_gradient(s);
+}
+
+// Eq. 3 for one particle above the flat base: U = (ε_w/2)(1 − 2d/σ_m)², with its own σ_m; a particle
+// in the corner of side wall and base feels both walls.
+TEST(WallRepulsion, UsesTheParticlesOwnDiameterAndSumsCorners) {
+  WallScene<2> s(hopper_walls_2d<double>(30.0, 4.0, 90.0),
+                 {V2{{8.0, 0.4}}, V2{{8.0, 0.4}}, V2{{14.65, 0.3}}});  // types 0, 1, 0
+  const double e = s.energy();
+  const double small = 0.5 * 50 * std::pow(1 - 2 * 0.4 / 1.0, 2), large = 0.5 * 50 * std::pow(1 - 2 * 0.4 / 1.4, 2);
+  const double corner = 0.5 * 50 * (std::pow(1 - 2 * 0.35 / 1.0, 2) + std::pow(1 - 2 * 0.3 / 1.0, 2));
+  EXPECT_NEAR(e, small + large + corner, 1e-12);
+  auto f = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), s.p.f);
+  EXPECT_NEAR(f(2, 0), -50 * 2.0 * (1 - 2 * 0.35), 1e-12);  // pushed off the side wall x = 15
+  EXPECT_NEAR(f(2, 1), 50 * 2.0 * (1 - 2 * 0.3), 1e-12);    // and up off the base
+}
+
+}  // namespace
+}  // namespace mesoflow
