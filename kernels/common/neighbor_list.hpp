@@ -115,6 +115,7 @@ class NeighborList {
 
   NeighborData<ExecSpace> data() const { return {cells_.cell_particles(), count_, index_}; }
   NeighborListKind kind() const { return kind_; }
+  BodyExclusion exclusion() const { return exclusion_; }
   Real cutoff() const { return cutoff_; }
   Real skin() const { return skin_; }
   int num_builds() const { return num_builds_; }

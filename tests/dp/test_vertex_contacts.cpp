@@ -1,0 +1,165 @@
+// Contacts between rough deformable polygons (hopper study, eqs. 9 and 12; kernels/dp/vertex_contacts.hpp):
+// bidisperse 16-gons overlapping each other, one of them compressed so that its own vertices overlap.
+// The repulsion and friction equal a brute force over vertex pairs of different particles (and differ
+// from one that counts pairs within a particle), the repulsion is minus the gradient of its energy,
+// the friction conserves momentum, and a list without same-body exclusion is refused.
+#include "kernels/dp/vertex_contacts.hpp"
+#include "kernels/dp/polygons.hpp"
+#include "test_types.hpp"
+
+#include <cmath>
+#include <iostream>
+#include <random>
+#include <vector>
+
+namespace mesoflow::dp {
+namespace {
+
+using Exec = Kokkos::DefaultExecutionSpace;
+constexpr int kVertices = 16;
+
+struct Scene {
+  static constexpr double L = 6.0;
+  Particles<2, double, Exec> p;
+  Box<2, double> box = Box<2, double>::cube(L, true);
+  VertexContactRepulsion<double> contacts;
+  NeighborList<2, double, Exec> list;
+  PairForce<2, double, Exec> pair;
+
+  // δ = l0 of a small (σ = 1) and a large (σ = 1.4) 16-gon.
+  static std::vector<double> vertex_diameters() {
+    return {regular_polygon_edge(0.25 * pi, kVertices), regular_polygon_edge(0.25 * pi * 1.96, kVertices)};
+  }
+
+  explicit Scene(BodyExclusion exclusion = BodyExclusion::same_body)
+      : p(6 * kVertices, "polygons"),
+        contacts(3.0, vertex_diameters()),
+        list(contacts.cutoff(), 0.1, NeighborListKind::full, exclusion) {
+    const double centres[6][2] = {{1.0, 1.0}, {1.95, 1.1}, {1.4, 1.95}, {3.5, 3.5}, {4.6, 3.6}, {5.6, 3.4}};
+    std::mt19937 gen(2);
+    std::uniform_real_distribution<double> w(-1, 1), jitter(-0.02, 0.02);
+    auto x = Kokkos::create_mirror_view(p.x);
+    auto v = Kokkos::create_mirror_view(p.v);
+    auto body = Kokkos::create_mirror_view(p.body);
+    auto type = Kokkos::create_mirror_view(p.type);
+    for (int b = 0; b < 6; ++b) {
+      const int t = b % 2;
+      const double sigma = t == 0 ? 1.0 : 1.4;
+      const double squeeze = b == 3 ? 0.8 : 1.0;  // polygon 3's own neighbouring vertices overlap
+      const double R = 0.5 * sigma * squeeze;
+      for (int k = 0; k < kVertices; ++k) {
+        const int i = b * kVertices + k;
+        const double a = 2 * pi * k / kVertices + 0.1 * b;
+        x(i, 0) = centres[b][0] + R * std::cos(a) + jitter(gen);
+        x(i, 1) = centres[b][1] + R * std::sin(a) + jitter(gen);
+        v(i, 0) = w(gen), v(i, 1) = w(gen);
+        body(i) = b;
+        type(i) = t;
+      }
+    }
+    Kokkos::deep_copy(p.x, x);
+    Kokkos::deep_copy(p.v, v);
+    Kokkos::deep_copy(p.body, body);
+    Kokkos::deep_copy(p.type, type);
+    list.build(p, box);
+  }
+
+  double repulsion() {
+    p.zero_forces();
+    return accumulate_vertex_contacts(contacts, p, list, box, pair);
+  }
+
+  // Brute force of eq. 9 (energy) over vertex pairs, of different bodies only or of all.
+  double brute_energy(bool count_same_body) const {
+    auto x = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), p.x);
+    auto body = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), p.body);
+    auto type = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), p.type);
+    double u = 0;
+    const int n = int(p.size());
+    for (int i = 0; i < n; ++i)
+      for (int j = i + 1; j < n; ++j) {
+        if (body(i) == body(j) && !count_same_body) continue;
+        double dx = x(i, 0) - x(j, 0), dy = x(i, 1) - x(j, 1);
+        dx -= L * std::round(dx / L), dy -= L * std::round(dy / L);
+        const double r = std::sqrt(dx * dx + dy * dy), s = contacts.contact[type(i)][type(j)];
+        if (r < s) u += 0.5 * contacts.epsilon * (1 - r / s) * (1 - r / s);
+      }
+    return u;
+  }
+};
+
+TEST(VertexContacts, RepulsionCountsOnlyPairsOfDifferentParticles) {
+  Scene s;
+  const double u = s.repulsion();
+  const double different = s.brute_energy(false), all = s.brute_energy(true);
+  std::cout << "[ contacts ] U_int = " << u << ", brute force " << different << " (with same-particle pairs " << all
+            << ")\n";
+  EXPECT_GT(different, 0.1);
+  EXPECT_NEAR(u, different, 1e-12 * different);
+  EXPECT_GT(all - different, 0.1) << "polygon 3 is compressed: its own vertices overlap";
+}
+
+TEST(VertexContacts, RepulsionIsMinusTheEnergyGradient) {
+  Scene s;
+  s.repulsion();
+  auto f = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), s.p.f);
+  double scale = 0, worst = 0;
+  for (std::size_t i = 0; i < f.extent(0); ++i) scale = std::max({scale, std::abs(f(i, 0)), std::abs(f(i, 1))});
+  const double h = 1e-8;  // the force's derivative jumps at contact: keep h small (see test_hopper_walls.cpp)
+  for (int i = 0; i < int(s.p.size()); ++i)
+    for (int d = 0; d < 2; ++d) {
+      auto x = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), s.p.x);
+      const double x0 = x(i, d);
+      x(i, d) = x0 + h;
+      Kokkos::deep_copy(s.p.x, x);
+      const double up = s.repulsion();
+      x(i, d) = x0 - h;
+      Kokkos::deep_copy(s.p.x, x);
+      const double down = s.repulsion();
+      x(i, d) = x0;
+      Kokkos::deep_copy(s.p.x, x);
+      worst = std::max(worst, std::abs(-(up - down) / (2 * h) - f(i, d)) / scale);
+    }
+  std::cout << "[ fd ] rough DP vertex contacts: max error / max |F| = " << worst << "\n";
+  EXPECT_LE(worst, 1e-6);
+}
+
+TEST(VertexContacts, FrictionConservesMomentumAndSkipsTheSameParticle) {
+  Scene s;
+  s.p.zero_forces();
+  accumulate_vertex_friction(0.4, s.contacts, s.p, s.p.v, s.list, s.box);
+  auto f = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), s.p.f);
+  auto x = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), s.p.x);
+  auto v = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), s.p.v);
+  auto body = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), s.p.body);
+  auto type = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), s.p.type);
+  const int n = int(s.p.size());
+  double total[2] = {0, 0}, magnitude = 0;
+  for (int i = 0; i < n; ++i) {
+    double brute[2] = {0, 0};
+    for (int j = 0; j < n; ++j) {
+      if (j == i || body(i) == body(j)) continue;
+      double dx = x(i, 0) - x(j, 0), dy = x(i, 1) - x(j, 1);
+      dx -= Scene::L * std::round(dx / Scene::L), dy -= Scene::L * std::round(dy / Scene::L);
+      const double sij = s.contacts.contact[type(i)][type(j)];
+      if (dx * dx + dy * dy < sij * sij)
+        for (int d = 0; d < 2; ++d) brute[d] -= 0.4 * (v(i, d) - v(j, d));
+    }
+    for (int d = 0; d < 2; ++d) {
+      EXPECT_NEAR(f(i, d), brute[d], 1e-12) << "vertex " << i;
+      total[d] += f(i, d);
+      magnitude += std::abs(f(i, d));
+    }
+  }
+  EXPECT_GT(magnitude, 1.0);
+  for (double t : total) EXPECT_LE(std::abs(t), 1e-13 * magnitude);
+}
+
+TEST(VertexContacts, RefuseAListThatCountsPairsWithinAParticle) {
+  Scene s(BodyExclusion::none);
+  EXPECT_THROW(s.repulsion(), std::invalid_argument);
+  EXPECT_THROW(accumulate_vertex_friction(0.4, s.contacts, s.p, s.p.v, s.list, s.box), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace mesoflow::dp
