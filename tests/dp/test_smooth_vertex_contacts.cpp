@@ -1,0 +1,146 @@
+// Contacts between nearly smooth deformable polygons (hopper study, Appendix A;
+// kernels/dp/smooth_vertex_contacts.hpp): bidisperse 16-gons pressed lightly against each other
+// (circulo-line edges of width 0.1 l0). The energy equals a brute force of Appendix A's rule over every
+// (vertex, edge) pair of different particles; the forces are minus its gradient; each contact
+// exchanges no net force; lists without same-body exclusion or too short for the longest edge are
+// refused.
+#include "kernels/dp/smooth_vertex_contacts.hpp"
+#include "test_types.hpp"
+
+#include <cmath>
+#include <iostream>
+#include <random>
+#include <vector>
+
+namespace mesoflow::dp {
+namespace {
+
+using Exec = Kokkos::DefaultExecutionSpace;
+using V2 = Vec<2, double>;
+constexpr int kVertices = 16;
+constexpr double kL = 8.0;
+
+struct Scene {
+  Polygons<double, Exec> polygons;
+  Particles<2, double, Exec> p;
+  Box<2, double> box = Box<2, double>::cube(kL, true);
+  sp::SoftSphereRepulsion<double> widths;
+  NeighborList<2, double, Exec> list;
+
+  static double edge(double sigma) { return regular_polygon_edge(0.25 * pi * sigma * sigma, kVertices); }
+
+  explicit Scene(double width_over_l0, BodyExclusion exclusion = BodyExclusion::same_body, double cutoff = 0)
+      : polygons(Polygons<double, Exec>::from_vertex_counts(std::vector<int>(6, kVertices),
+                                                            {0.25 * pi, 0.25 * pi * 1.96, 0.25 * pi, 0.25 * pi * 1.96,
+                                                             0.25 * pi, 0.25 * pi * 1.96},
+                                                            {edge(1), edge(1.4), edge(1), edge(1.4), edge(1), edge(1.4)})),
+        p(6 * kVertices, "polygons"),
+        widths(5.0, {width_over_l0 * edge(1.0), width_over_l0 * edge(1.4)}),
+        list(cutoff > 0 ? cutoff : 1.3 * edge(1.4) + widths.cutoff(), 0.05, NeighborListKind::full, exclusion) {
+    assign_bodies(polygons, p);
+    // Three touching pairs (small–large), the gap between their circumscribed circles slightly
+    // negative so that edges and vertices press lightly; rotations differ so contacts are both
+    // vertex–edge (Fig. 9a) and vertex–cap (Fig. 9b); the last pair straddles the periodic boundary.
+    const double centres[6][2] = {{2.0, 2.0}, {3.18, 2.0}, {2.0, 5.0}, {2.0, 6.18}, {7.6, 4.0}, {0.78, 4.0}};
+    std::mt19937 gen(8);
+    std::uniform_real_distribution<double> jitter(-0.01, 0.01);
+    auto x = Kokkos::create_mirror_view(p.x);
+    auto type = Kokkos::create_mirror_view(p.type);
+    for (int b = 0; b < 6; ++b) {
+      const double R = 0.5 * (b % 2 == 0 ? 1.0 : 1.4) / std::cos(pi / kVertices) * 1.0;
+      for (int k = 0; k < kVertices; ++k) {
+        const int i = b * kVertices + k;
+        const double a = 2 * pi * k / kVertices + 0.13 * b;
+        x(i, 0) = centres[b][0] + R * std::cos(a) + jitter(gen);
+        x(i, 1) = centres[b][1] + R * std::sin(a) + jitter(gen);
+        x(i, 0) -= kL * std::floor(x(i, 0) / kL);
+        type(i) = b % 2;
+      }
+    }
+    Kokkos::deep_copy(p.x, x);
+    Kokkos::deep_copy(p.type, type);
+    list.build(p, box);
+  }
+
+  double energy() {
+    p.zero_forces();
+    return accumulate_smooth_vertex_contacts(widths, polygons, p, list, box);
+  }
+
+  // Appendix A's rule by brute force over every (vertex, edge) pair of different particles.
+  double brute_energy() const {
+    auto x = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), p.x);
+    auto type = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), p.type);
+    auto wrap = [](V2 v) {
+      for (int d = 0; d < 2; ++d) v[d] -= kL * std::round(v[d] / kL);
+      return v;
+    };
+    double u = 0;
+    const int n = int(p.size());
+    for (int q = 0; q < n; ++q)
+      for (int a = 0; a < n; ++a) {
+        if (q / kVertices == a / kVertices) continue;
+        const int b = (a / kVertices) * kVertices + (a % kVertices + 1) % kVertices;
+        const V2 l = wrap(V2{{x(b, 0) - x(a, 0), x(b, 1) - x(a, 1)}});
+        const V2 aq = wrap(V2{{x(q, 0) - x(a, 0), x(q, 1) - x(a, 1)}});
+        const double t = dot(aq, l) / norm2(l);
+        const double d = std::sqrt(t >= 0 && t <= 1 ? norm2(aq - t * l) : norm2(aq));
+        const double w = widths.contact[type(q)][type(a)];
+        if (d < w) u += 0.5 * widths.epsilon * (1 - d / w) * (1 - d / w);
+      }
+    return u;
+  }
+};
+
+TEST(SmoothVertexContacts, EnergyFollowsAppendixA) {
+  for (double width : {0.1, 0.3}) {  // the paper's δ = 0.1 l0, and a wider line with more contacts
+    Scene s(width);
+    const double u = s.energy(), brute = s.brute_energy();
+    std::cout << "[ smooth ] δ = " << width << " l0: U = " << u << ", brute force " << brute << "\n";
+    EXPECT_GT(brute, 1e-3);
+    EXPECT_NEAR(u, brute, 1e-12 * brute);
+  }
+}
+
+TEST(SmoothVertexContacts, ForceIsMinusTheGradientAndExchangesNoNetForce) {
+  Scene s(0.3);
+  s.energy();
+  auto f = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), s.p.f);
+  double scale = 0, total[2] = {0, 0}, magnitude = 0;
+  for (std::size_t i = 0; i < f.extent(0); ++i)
+    for (int d = 0; d < 2; ++d) {
+      scale = std::max(scale, std::abs(f(i, d)));
+      total[d] += f(i, d);
+      magnitude += std::abs(f(i, d));
+    }
+  for (double t : total) EXPECT_LE(std::abs(t), 1e-13 * magnitude);
+  const double h = 1e-8;  // the force's derivative jumps at contact and at t = 0, 1
+  double worst = 0;
+  for (int i = 0; i < int(s.p.size()); ++i)
+    for (int d = 0; d < 2; ++d) {
+      auto x = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), s.p.x);
+      const double x0 = x(i, d);
+      x(i, d) = x0 + h;
+      Kokkos::deep_copy(s.p.x, x);
+      const double up = s.energy();
+      x(i, d) = x0 - h;
+      Kokkos::deep_copy(s.p.x, x);
+      const double down = s.energy();
+      x(i, d) = x0;
+      Kokkos::deep_copy(s.p.x, x);
+      worst = std::max(worst, std::abs(-(up - down) / (2 * h) - f(i, d)) / scale);
+    }
+  std::cout << "[ fd ] smooth DP contacts: max error / max |F| = " << worst << ", |F|max = " << scale << "\n";
+  EXPECT_GT(scale, 0.1);
+  EXPECT_LE(worst, 1e-6);
+}
+
+TEST(SmoothVertexContacts, RefusesListsThatCannotHoldTheContacts) {
+  Scene without_exclusion(0.1, BodyExclusion::none);
+  EXPECT_THROW(without_exclusion.energy(), std::invalid_argument);
+  Scene too_short(0.1, BodyExclusion::same_body, 0.5 * Scene::edge(1.4));
+  EXPECT_THROW(too_short.energy(), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace mesoflow::dp
