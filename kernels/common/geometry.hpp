@@ -519,18 +519,27 @@ std::array<Shape<2, Real>, 2> orifice_wedges(Real w, Real center_x, Real y_orifi
 // the orifice. 0 < θ_w ≤ 90°, 0 < w < W.
 constexpr double hopper_exit_wall_opening = 30.0;  // degrees between an exit wall and its downstream face
 
+namespace geometry_detail {
+// Checks W, w, θ_w and returns the directions, in the meridian (outward, up), of an exit wall and of
+// its downstream face, leaving the orifice rim.
 template <class Real>
-std::vector<Shape<2, Real>> hopper_walls_2d(Real W, Real w, Real theta_w_degrees) {
+std::array<Vec<2, Real>, 2> hopper_exit_wall(Real W, Real w, Real theta_w_degrees) {
   if (!(W > Real(0)) || !std::isfinite(W)) throw std::invalid_argument("hopper: width W must be finite and > 0");
   if (!(w > Real(0) && w < W)) throw std::invalid_argument("hopper: orifice w must lie in (0, W), got " + std::to_string(w));
   if (!(theta_w_degrees > Real(0) && theta_w_degrees <= Real(90)))
     throw std::invalid_argument("hopper: wall angle theta_w must lie in (0, 90] degrees, got " +
                                 std::to_string(theta_w_degrees));
+  const double theta = double(theta_w_degrees) * pi / 180;
+  const double below = theta + hopper_exit_wall_opening * pi / 180;
+  return {{Vec<2, Real>{{Real(std::sin(theta)), Real(std::cos(theta))}},
+           Vec<2, Real>{{Real(std::sin(below)), Real(std::cos(below))}}}};
+}
+}  // namespace geometry_detail
+
+template <class Real>
+std::vector<Shape<2, Real>> hopper_walls_2d(Real W, Real w, Real theta_w_degrees) {
   using V = Vec<2, Real>;
-  const double theta = double(theta_w_degrees) * geometry_detail::pi / 180;
-  const double below = theta + hopper_exit_wall_opening * geometry_detail::pi / 180;
-  const V wall{{Real(std::sin(theta)), Real(std::cos(theta))}};  // from the right rim, outward and up
-  const V under{{Real(std::sin(below)), Real(std::cos(below))}};
+  const auto [wall, under] = geometry_detail::hopper_exit_wall(W, w, theta_w_degrees);  // right rim
   const Real half = Real(0.5) * W, rim = Real(0.5) * w;
   return {Shape<2, Real>::half_space(V{{-half, Real(0)}}, V{{Real(1), Real(0)}}),
           Shape<2, Real>::half_space(V{{half, Real(0)}}, V{{Real(-1), Real(0)}}),
@@ -540,20 +549,11 @@ std::vector<Shape<2, Real>> hopper_walls_2d(Real W, Real w, Real theta_w_degrees
 
 template <class Real>
 std::vector<Shape<3, Real>> hopper_walls_3d(Real W, Real w, Real theta_w_degrees) {
-  if (!(W > Real(0)) || !std::isfinite(W)) throw std::invalid_argument("hopper: diameter W must be finite and > 0");
-  if (!(w > Real(0) && w < W)) throw std::invalid_argument("hopper: orifice w must lie in (0, W), got " + std::to_string(w));
-  if (!(theta_w_degrees > Real(0) && theta_w_degrees <= Real(90)))
-    throw std::invalid_argument("hopper: wall angle theta_w must lie in (0, 90] degrees, got " +
-                                std::to_string(theta_w_degrees));
   using V3 = Vec<3, Real>;
-  using V2 = Vec<2, Real>;
-  const double theta = double(theta_w_degrees) * geometry_detail::pi / 180;
-  const double below = theta + hopper_exit_wall_opening * geometry_detail::pi / 180;
+  const auto [wall, under] = geometry_detail::hopper_exit_wall(W, w, theta_w_degrees);  // in (ρ, z)
   const V3 origin{{Real(0), Real(0), Real(0)}}, axis{{Real(0), Real(0), Real(1)}};
   return {Shape<3, Real>::cylinder(origin, axis, Real(0.5) * W, true),
-          Shape<3, Real>::revolved_wedge(origin, axis, V2{{Real(0.5) * w, Real(0)}},
-                                         V2{{Real(std::sin(theta)), Real(std::cos(theta))}},
-                                         V2{{Real(std::sin(below)), Real(std::cos(below))}})};
+          Shape<3, Real>::revolved_wedge(origin, axis, Vec<2, Real>{{Real(0.5) * w, Real(0)}}, wall, under)};
 }
 
 // Host-side owner of a scene: copies the shapes to ExecSpace's memory once, at construction, and hands

@@ -6,6 +6,7 @@
 // 3D, sums the walls a particle overlaps, and depends on the particle's own diameter.
 #include "kernels/common/geometry.hpp"
 #include "kernels/sp/wall_repulsion.hpp"
+#include "finite_difference.hpp"
 #include "test_types.hpp"
 
 #include <cmath>
@@ -94,37 +95,18 @@ struct WallScene {
     p.zero_forces();
     return sp::accumulate_wall_repulsion(50.0, sizes, walls, p);
   }
-  void shift(int i, int d, double h) {
-    auto x = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), p.x);
-    x(i, d) += h;
-    Kokkos::deep_copy(p.x, x);
-  }
 };
 
 template <int D>
 void expect_wall_force_is_minus_gradient(WallScene<D>& s) {
-  s.energy();
-  auto f = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), s.p.f);
-  const int n = int(s.p.size());
-  double worst = 0, scale = 0;
-  for (int i = 0; i < n; ++i)
-    for (int d = 0; d < D; ++d) scale = std::max(scale, std::abs(f(i, d)));
   // The force is continuous at contact but its derivative jumps (stiffness ε_w(2/σ)² = 200 here):
   // a particle within h of d = σ/2 sees an O(h·stiffness) central-difference error (5.8·10⁻⁶ of
   // max |F| at h = 10⁻⁶, 5.8·10⁻⁷ at 10⁻⁷), hence h = 10⁻⁸, where round-off is still ~10⁻⁸.
-  const double h = 1e-8;
-  for (int i = 0; i < n; ++i)
-    for (int d = 0; d < D; ++d) {
-      s.shift(i, d, h);
-      const double up = s.energy();
-      s.shift(i, d, -2 * h);
-      const double down = s.energy();
-      s.shift(i, d, h);
-      worst = std::max(worst, std::abs(-(up - down) / (2 * h) - f(i, d)) / scale);
-    }
-  std::cout << "[ fd ] wall repulsion " << D << "D: " << n << " particles, max error / max |F| = " << worst << "\n";
-  EXPECT_GT(scale, 1.0);
-  EXPECT_LE(worst, 1e-6);
+  const auto c = testing::check_gradient(s.p, [&] { return s.energy(); }, 1e-8);
+  std::cout << "[ fd ] wall repulsion " << D << "D: " << s.p.size() << " particles, max error / max |F| = "
+            << c.max_error << "\n";
+  EXPECT_GT(c.max_force, 1.0);
+  EXPECT_LE(c.max_error, 1e-6);
 }
 
 TEST(WallRepulsion, ForceIsMinusTheEnergyGradient2D) {
