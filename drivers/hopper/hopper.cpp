@@ -1,0 +1,197 @@
+// hopper — continuous gravity-driven hopper flow of bidisperse soft particles (hopper-flows paper
+// §2.1–2.4, §4): sweeps the orifice width w, measures the steady flow rate Q(w) or clogging at each,
+// and fits the Beverloo law Q = C(w/σ_avg − k)^β (eq. 1) when at least 4 widths flow.
+//
+// Units (§2.2): length σ_avg = (σ_s + σ_l)/2, acceleration g, density ρ (areal in 2D); time
+// t0 = √(σ_avg/g); E_sp, E_w as in §2.2; ζ, μ in ζ0 = μ0 = ρσ_avg^{d−1} g t0; Q in Q0 = σ_avg^d/t0
+// (area per t0 in 2D, volume in 3D). λ = ζ/μ is set by --drag and --friction.
+// Each width is an independent run from the same seed: random placement, FIRE without gravity,
+// then flow (drivers/hopper/hopper_scene.hpp; steady-state and clogging criteria in
+// drivers/hopper/flow_measurement.hpp).
+//
+// Output (<out> = --output without its extension): <out>.h5 (per width k: observable
+// window_flow_rate_<k>; attributes w_<k>, Q_<k>, Q_error_<k>, clogged_<k>, steady_<k>; parameters),
+// <out>.csv (w, Q, Q_error, clogged, steady), <out>.json (results, the fit), <out>_fit.csv (the fit,
+// when there is one), <out>.png (Q(w) with the fit; --no-plot skips it).
+#include "drivers/common/cli.hpp"
+#include "drivers/common/output_paths.hpp"
+#include "drivers/hopper/flow_measurement.hpp"
+#include "drivers/hopper/flow_rate_fits.hpp"
+#include "drivers/hopper/hopper_scene.hpp"
+#include "kernels/io/h5md_writer.hpp"
+
+#include <chrono>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <optional>
+#include <sstream>
+
+namespace mesoflow {
+namespace {
+
+struct Parameters {
+  hopper::HopperParameters scene;
+  hopper::FlowSettings flow;
+  std::string widths = "4,5,6,7,8";
+  std::string dimension = "2";
+  int threads = 0;
+  bool no_plot = false;
+};
+
+// The comma list of --widths, each in (0, W).
+std::vector<double> parse_widths(const std::string& text, double W) {
+  std::vector<double> out;
+  std::stringstream ss(text);
+  std::string item;
+  while (std::getline(ss, item, ',')) {
+    std::size_t used = 0;
+    double w = 0;
+    try {
+      w = std::stod(item, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used == 0 || used != item.size() || !std::isfinite(w) || !(w > 0 && w < W))
+      throw std::invalid_argument("--widths: each width must be a number in (0, W = " + std::to_string(W) +
+                                  "), got '" + item + "'");
+    out.push_back(w);
+  }
+  if (out.empty()) throw std::invalid_argument("--widths: at least one width, got '" + text + "'");
+  return out;
+}
+
+template <int D>
+void run(const Parameters& par, const cli::DriverApp& app) {
+  const driver::OutputPaths out(app.output());
+  const auto widths = parse_widths(par.widths, par.scene.hopper_width);
+  for (const double w : widths) {  // refuse every bad width before any output
+    hopper::HopperParameters p = par.scene;
+    p.orifice = w;
+    p.validate(D);
+  }
+  par.flow.validate();
+  std::optional<io::H5mdWriter> h5;
+  h5.emplace(out.trajectory, "mesoflow", MESOFLOW_VERSION, "mesoflow hopper");
+  for (const auto& [key, value] : app.resolved_parameters()) h5->set_parameter(key, value);
+  std::vector<hopper::FlowResult> results;
+  const auto wall_start = std::chrono::steady_clock::now();
+  long long steps = 0;
+  for (std::size_t k = 0; k < widths.size(); ++k) {
+    hopper::HopperParameters p = par.scene;
+    p.orifice = widths[k];
+    hopper::HopperScene<D> scene(p);
+    scene.relax();
+    const std::string name = "window_flow_rate_" + std::to_string(k);
+    const auto r = hopper::measure_flow_rate<hopper::HopperScene<D>>(
+        scene, par.flow, [&](const hopper::HopperScene<D>& s, double q) { h5->append_observable(name, s.steps(), s.time(), q); });
+    const std::string suffix = "_" + std::to_string(k);
+    h5->set_parameter("w" + suffix, widths[k]);
+    h5->set_parameter("Q" + suffix, r.Q);
+    h5->set_parameter("Q_error" + suffix, r.Q_error);
+    h5->set_parameter("clogged" + suffix, r.clogged);
+    h5->set_parameter("steady" + suffix, r.steady);
+    h5->set_parameter("insertions" + suffix, scene.insertions());
+    h5->set_parameter("max_insertion_overlap" + suffix, scene.max_insertion_overlap());
+    steps += scene.steps();
+    results.push_back(r);
+    if (!app.quiet())
+      std::cout << "hopper: w = " << widths[k] << ": "
+                << (r.clogged ? std::string("clogged at t = ") + std::to_string(r.end_time)
+                              : "Q = " + std::to_string(r.Q) + " ± " + std::to_string(r.Q_error) +
+                                    (r.steady ? "" : " (no steady state by --max-time)"))
+                << " (" << scene.steps() << " steps, " << scene.insertions() << " re-insertions)\n";
+  }
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+  h5.reset();
+
+  std::ofstream csv(out.csv);
+  csv << std::setprecision(10) << "w,Q,Q_error,clogged,steady\n";
+  std::vector<double> x, Q, Qe;
+  for (std::size_t k = 0; k < widths.size(); ++k) {
+    const auto& r = results[k];
+    csv << widths[k] << ',' << r.Q << ',' << r.Q_error << ',' << int(r.clogged) << ',' << int(r.steady) << '\n';
+    if (!r.clogged && r.steady && r.Q > 0 && r.Q_error > 0) {
+      x.push_back(widths[k]);
+      Q.push_back(r.Q);
+      Qe.push_back(r.Q_error);
+    }
+  }
+  csv.close();
+  std::optional<hopper::BeverlooFit> fit;
+  if (x.size() >= 4) fit = hopper::fit_beverloo(x, Q, Qe);
+  const std::string base = out.csv.substr(0, out.csv.size() - 4);
+  std::ofstream json(out.summary);
+  json << std::setprecision(10) << "{\n  \"driver\": \"hopper\",\n  \"dimension\": " << D << ",\n  \"results\": [";
+  for (std::size_t k = 0; k < widths.size(); ++k) {
+    const auto& r = results[k];
+    json << (k ? "," : "") << "\n    {\"w\": " << widths[k] << ", \"Q\": " << r.Q << ", \"Q_error\": "
+         << (std::isfinite(r.Q_error) ? r.Q_error : -1.0) << ", \"clogged\": " << (r.clogged ? "true" : "false")
+         << ", \"steady\": " << (r.steady ? "true" : "false") << ", \"steady_time\": " << r.steady_time
+         << ", \"end_time\": " << r.end_time << "}";
+  }
+  json << "\n  ],\n";
+  if (fit) {
+    json << "  \"beverloo\": {\"C\": " << fit->C << ", \"C_error\": " << fit->C_error << ", \"k\": " << fit->k
+         << ", \"k_error\": " << fit->k_error << ", \"beta\": " << fit->beta << ", \"beta_error\": " << fit->beta_error
+         << ", \"chi2_per_dof\": " << fit->chi2_per_dof << ", \"points\": " << x.size() << "},\n";
+    std::ofstream fcsv(base + "_fit.csv");
+    fcsv << std::setprecision(10) << "C,C_error,k,k_error,beta,beta_error,chi2_per_dof,points\n"
+         << fit->C << ',' << fit->C_error << ',' << fit->k << ',' << fit->k_error << ',' << fit->beta << ','
+         << fit->beta_error << ',' << fit->chi2_per_dof << ',' << x.size() << '\n';
+  } else {
+    json << "  \"beverloo\": null,\n";
+  }
+  json << "  \"steps\": " << steps << ",\n  \"wall_seconds\": " << wall << ",\n  \"particle_steps_per_second\": "
+       << (wall > 0 ? double(steps) * par.scene.particles / wall : 0.0) << ",\n  \"kokkos\": \""
+       << kokkos_configuration() << "\"\n}\n";
+  json.close();
+  if (!par.no_plot) {
+    const std::string png = base + ".png";
+    std::vector<std::string> args{out.csv, png};
+    if (fit) args.push_back(base + "_fit.csv");
+    driver::plot_with_matplotlib("hopper", "plot_hopper.py", args, png, app.quiet());
+  }
+  if (!app.quiet() && fit)
+    std::cout << "hopper: Beverloo fit over " << x.size() << " widths: C = " << fit->C << " ± " << fit->C_error
+              << ", k = " << fit->k << " ± " << fit->k_error << ", β = " << fit->beta << " ± " << fit->beta_error << "\n";
+}
+
+}  // namespace
+}  // namespace mesoflow
+
+int main(int argc, char** argv) {
+  using mesoflow::cli::Bounds;
+  mesoflow::Parameters par;
+  auto& s = par.scene;
+  auto& f = par.flow;
+  mesoflow::cli::DriverApp app(
+      "Hopper flow of bidisperse soft particles: Q(w) sweep, clogging and the Beverloo fit (hopper-flows paper; "
+      "units sigma_avg, g, rho, t0 = sqrt(sigma_avg/g))",
+      "hopper.h5");
+  app.add_string("--widths", par.widths, "orifice widths w/σ_avg, a comma list, each in (0, W)");
+  app.add_choice("--dimension", par.dimension, "2 (disks) or 3 (spheres in a cylinder)", {"2", "3"});
+  app.add_int("--particles", s.particles, "particles N (half small, half large)", 2, 10000000);
+  app.add_real("--hopper-width", s.hopper_width, "hopper width W/σ_avg (3D: diameter)", 4.7, 1e4);
+  app.add_real("--wall-angle", s.wall_angle, "exit-wall angle θ_w in degrees", 0.0, 90.0, Bounds::left_open);
+  app.add_real("--pair-energy", s.pair_energy, "pair repulsion E_sp (eq. 2)", 0.0, 1e8, Bounds::left_open);
+  app.add_real("--wall-energy", s.wall_energy, "wall repulsion E_w (eq. 3)", 0.0, 1e8, Bounds::left_open);
+  app.add_real("--drag", s.drag, "drag ζ/ζ0 (eq. 5)", 0.0, 1e4);
+  app.add_real("--friction", s.friction, "kinetic friction μ/μ0 (eq. 6)", 0.0, 1e4);
+  app.add_real("--dt", s.dt, "time step Δt/t0 (refused above the stability limit)", 0.0, 0.01, Bounds::left_open);
+  app.add_int("--seed", s.seed, "random seed of the initial placement and re-insertion", 0, 1LL << 62);
+  app.add_real("--window", f.window, "rate window /t0", 0.0, 1e4, Bounds::left_open);
+  app.add_int("--steady-windows", f.steady_windows, "windows M compared for the steady-state test", 2, 1000);
+  app.add_int("--measure-windows", f.measure_windows, "windows averaged once steady", 4, 100000);
+  app.add_real("--clog-time", f.clog_time, "clogged after this long without a crossing /t0", 0.0, 1e7, Bounds::left_open);
+  app.add_real("--max-time", f.max_time, "time limit per width /t0", 0.0, 1e8, Bounds::left_open);
+  app.add_int("--threads", par.threads, "host threads (0: OMP_NUM_THREADS or all cores)", 0, 4096);
+  app.add_flag("--no-plot", par.no_plot, "do not write the PNG plot");
+  return app.run(argc, argv, [&] {
+    mesoflow::KokkosScope kokkos(par.threads);
+    if (par.dimension == "2")
+      mesoflow::run<2>(par, app);
+    else
+      mesoflow::run<3>(par, app);
+  });
+}

@@ -1,0 +1,202 @@
+// The SP hopper scene (hopper-flows paper §2.1–2.4): contacts and friction conserve total momentum
+// in the scene (no walls, no gravity); a small 2D hopper (300 particles, W = 20σ_avg, θ_w = 90°,
+// friction only, μ = 10√10) reaches a steady nonzero Q at w = 6σ_avg and clogs for good at
+// w = 1.2σ_avg with hard particles (E_sp = 10⁴); every re-inserted particle overlaps nothing beyond
+// the contact tolerance, checked by brute force after each recycling.
+#include "drivers/hopper/flow_measurement.hpp"
+#include "drivers/hopper/hopper_scene.hpp"
+
+#include <gtest/gtest.h>
+
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <iostream>
+#include <random>
+#include <vector>
+
+namespace mesoflow::hopper {
+namespace {
+
+using Exec = Kokkos::DefaultExecutionSpace;
+using Scene2 = HopperScene<2, double, Exec>;
+
+HopperParameters small_hopper(double w, double pair_energy) {
+  HopperParameters par;
+  par.particles = 300;
+  par.hopper_width = 20;
+  par.orifice = w;
+  par.pair_energy = pair_energy;
+  par.friction = 10 * std::sqrt(10.0);
+  par.seed = 7;
+  return par;
+}
+
+// Σ M v and Σ ½ M v² on the host.
+std::array<double, 3> momentum_and_energy(const Scene2& s) {
+  const auto v = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), s.particles().v);
+  const auto m = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), s.particles().mass);
+  std::array<double, 3> out{0, 0, 0};
+  for (std::size_t i = 0; i < v.extent(0); ++i) {
+    out[0] += m(i) * v(i, 0);
+    out[1] += m(i) * v(i, 1);
+    out[2] += 0.5 * m(i) * (v(i, 0) * v(i, 0) + v(i, 1) * v(i, 1));
+  }
+  return out;
+}
+
+// Pairs closer than σ_mn, by brute force.
+int count_contacts(const Scene2& s) {
+  const auto x = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), s.particles().x);
+  const auto t = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), s.particles().type);
+  int n = 0;
+  for (std::size_t i = 0; i < x.extent(0); ++i)
+    for (std::size_t j = i + 1; j < x.extent(0); ++j) {
+      const double sij = 0.5 * (particle_diameter(t(i)) + particle_diameter(t(j)));
+      n += std::hypot(x(i, 0) - x(j, 0), x(i, 1) - x(j, 1)) < sij;
+    }
+  return n;
+}
+
+TEST(HopperScene, ContactsAndFrictionConserveMomentum) {
+  HopperParameters par = small_hopper(6, 100);
+  par.wall_energy = 0;  // no walls
+  Scene2 scene(par);
+  scene.relax();
+  scene.set_gravity(false);
+  std::mt19937 gen(3);
+  std::normal_distribution<double> g(0, 1);
+  std::vector<Vec<2, double>> v(std::size_t(par.particles));
+  for (auto& vi : v) vi = Vec<2, double>{{g(gen), g(gen)}};
+  scene.set_velocities(v);
+  const auto before = momentum_and_energy(scene);
+  int contacts = 0;
+  for (int k = 0; k < 400; ++k) {
+    scene.step();
+    if (k % 50 == 0) contacts += count_contacts(scene);
+  }
+  const auto after = momentum_and_energy(scene);
+  double scale = 0;  // Σ M|v| at the start
+  for (std::size_t i = 0; i < v.size(); ++i)
+    scale += particle_measure<2>(particle_diameter(int(i % 2))) * std::hypot(v[i][0], v[i][1]);
+  std::cout << "contacts sampled " << contacts << ", |ΔP| = " << std::hypot(after[0] - before[0], after[1] - before[1])
+            << " against Σ M|v| = " << scale << ", E_k " << before[2] << " → " << after[2] << "\n";
+  EXPECT_EQ(scene.insertions(), 0);
+  EXPECT_GT(contacts, 20);                // collisions happened
+  EXPECT_LT(after[2], 0.9 * before[2]);   // friction dissipated
+  EXPECT_LT(std::hypot(after[0] - before[0], after[1] - before[1]), 1e-11 * scale);
+}
+
+// Brute-force overlap of each just-inserted particle with every other particle and every wall.
+double insertion_overlap(const Scene2& s) {
+  const auto x = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), s.particles().x);
+  const auto t = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), s.particles().type);
+  double worst = 0;
+  for (const int i : s.last_inserted()) {
+    for (std::size_t j = 0; j < x.extent(0); ++j) {
+      if (int(j) == i) continue;
+      const double sij = 0.5 * (particle_diameter(t(i)) + particle_diameter(t(j)));
+      worst = std::max(worst, 1 - std::hypot(x(i, 0) - x(j, 0), x(i, 1) - x(j, 1)) / sij);
+    }
+    for (const auto& wall : s.walls()) {
+      const double d = wall.query(Vec<2, double>{{x(i, 0), x(i, 1)}}).distance;
+      worst = std::max(worst, 1 - 2 * d / particle_diameter(t(i)));
+    }
+  }
+  return worst;
+}
+
+TEST(HopperScene, SteadyNonzeroFlowAtSixDiameters) {
+  const auto start = std::chrono::steady_clock::now();
+  Scene2 scene(small_hopper(6, 100));
+  scene.relax();
+  FlowSettings fs;
+  fs.window = 2;
+  fs.steady_windows = 3;
+  fs.measure_windows = 16;
+  fs.clog_time = 10;
+  fs.max_time = 120;
+  const auto r = measure_flow_rate<Scene2>(scene, fs);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  std::cout << "w = 6: Q = " << r.Q << " ± " << r.Q_error << " (steady at t = " << r.steady_time << ", end "
+            << r.end_time << "), " << scene.crossings() << " crossings, " << scene.insertions()
+            << " insertions, max insertion overlap " << scene.max_insertion_overlap() << "; " << seconds << " s\n";
+  EXPECT_FALSE(r.clogged);
+  EXPECT_TRUE(r.steady);
+  // Bounds: Q > 0, a relative error below 25 %, and Q below w × √(2 g H) with H ≈ 15σ the initial
+  // pile height (free fall from the top across the whole orifice at packing fraction 1): ≈ 33.
+  EXPECT_GT(r.Q, 0.5);
+  EXPECT_LT(r.Q, 33);
+  EXPECT_LT(r.Q_error, 0.25 * r.Q);
+  // Steady: the two halves of the measured windows agree within 3 combined standard errors.
+  const std::vector<double> measured(r.window_rates.end() - fs.measure_windows, r.window_rates.end());
+  double m1, e1, m2, e2;
+  block_average(std::vector<double>(measured.begin(), measured.begin() + 8), m1, e1);
+  block_average(std::vector<double>(measured.begin() + 8, measured.end()), m2, e2);
+  std::cout << "halves: " << m1 << " ± " << e1 << ", " << m2 << " ± " << e2 << "\n";
+  EXPECT_LT(std::abs(m1 - m2), 3 * std::hypot(e1, e2));
+  EXPECT_GT(scene.insertions(), 50);
+  EXPECT_LE(scene.max_insertion_overlap(), contact_tolerance);
+}
+
+TEST(HopperScene, RecyclingNeverOverlapsBeyondTolerance) {
+  // Every recycling checked by brute force right after it happens (step by step), 2D hard particles.
+  Scene2 scene(small_hopper(6, 1e4));
+  scene.relax();
+  long long seen = -1;
+  int recyclings = 0, inserted = 0;
+  double worst = 0;
+  while (scene.time() < 15) {
+    scene.step();
+    if (scene.last_recycling_step() != seen) {
+      seen = scene.last_recycling_step();
+      ++recyclings;
+      inserted += int(scene.last_inserted().size());
+      worst = std::max(worst, insertion_overlap(scene));
+    }
+  }
+  std::cout << recyclings << " recyclings, " << inserted << " particles re-inserted, largest overlap " << worst << "\n";
+  EXPECT_GT(inserted, 20);
+  EXPECT_LE(worst, contact_tolerance);
+  // The count is conserved: nobody is lost below the recycling depth for long.
+  const auto x = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), scene.particles().x);
+  int below = 0;
+  for (std::size_t i = 0; i < x.extent(0); ++i) below += x(i, 1) < -recycle_depth - 1;
+  EXPECT_EQ(below, 0);
+}
+
+TEST(HopperScene, HardParticlesClogForGoodAtOnePointTwoDiameters) {
+  const auto start = std::chrono::steady_clock::now();
+  Scene2 scene(small_hopper(1.2, 1e4));
+  scene.relax();
+  FlowSettings fs;
+  fs.window = 2;
+  fs.clog_time = 10;
+  fs.max_time = 60;
+  const auto r = measure_flow_rate<Scene2>(scene, fs);
+  const long long crossings = scene.crossings();
+  // Permanence: 10 t0 more without a single crossing.
+  for (int k = 0; k < 10000; ++k) scene.step();
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  std::cout << "w = 1.2: clogged " << r.clogged << " at t = " << r.end_time << " after " << crossings
+            << " crossings; " << scene.crossings() - crossings << " more in 10 t0; " << seconds << " s\n";
+  EXPECT_TRUE(r.clogged);
+  EXPECT_EQ(r.Q, 0);
+  EXPECT_EQ(scene.crossings(), crossings);
+}
+
+TEST(HopperScene, RefusesBadParameters) {
+  HopperParameters par = small_hopper(25, 100);
+  EXPECT_THROW(par.validate(2), std::invalid_argument);  // w ≥ W
+  par = small_hopper(6, 100);
+  par.dt = 0.05;
+  try {
+    par.validate(2);
+    ADD_FAILURE() << "dt above the stability limit accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("time step dt"), std::string::npos);
+  }
+}
+
+}  // namespace
+}  // namespace mesoflow::hopper
