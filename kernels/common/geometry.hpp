@@ -102,6 +102,23 @@ KOKKOS_INLINE_FUNCTION Vec<3, Real> any_perpendicular(const Vec<3, Real>& k) {
   return unit(cross(k, unit_axis<3, Real>(axis)));
 }
 
+// The coordinates of r (relative to a point on an axis of unit direction `axis`) in its meridian
+// half-plane: the distance `along` the axis, the distance `rho` from it, and the unit `outward`
+// direction (a fixed perpendicular on the axis). (axis × r) × axis = r − (r·axis) axis, but
+// perpendicular to the axis to round-off in its own size even where r lies within round-off of the
+// axis and the radial part is noise.
+template <class Real>
+struct Meridian {
+  Real along, rho;
+  Vec<3, Real> outward;
+};
+template <class Real>
+KOKKOS_INLINE_FUNCTION Meridian<Real> meridian(const Vec<3, Real>& r, const Vec<3, Real>& axis) {
+  const Vec<3, Real> radial = cross(cross(axis, r), axis);
+  const Real rho = length(radial);
+  return {dot(r, axis), rho, rho > Real(0) ? (Real(1) / rho) * radial : any_perpendicular(axis)};
+}
+
 }  // namespace geometry_detail
 
 // Half-space bounded by a plane (3D) or a line (2D); the fluid lies on the side `normal` points to.
@@ -243,15 +260,8 @@ struct Cylinder {
   }
 
   KOKKOS_INLINE_FUNCTION SurfacePoint<3, Real> query(const Vec<3, Real>& x) const {
-    const Vec<3, Real> r = x - origin;
-    const Real along = dot(r, axis);
-    // (axis × r) × axis = r − (r·axis) axis, but perpendicular to the axis to round-off in its own size
-    // even where x lies within round-off of the axis and the radial part is noise.
-    const Vec<3, Real> radial = geometry_detail::cross(geometry_detail::cross(axis, r), axis);
-    const Real rho = geometry_detail::length(radial);
-    const Vec<3, Real> outward =
-        rho > Real(0) ? (Real(1) / rho) * radial : geometry_detail::any_perpendicular(axis);
-    const SurfacePoint<3, Real> s{rho - radius, origin + along * axis + radius * outward, outward};
+    const auto m = geometry_detail::meridian(x - origin, axis);
+    const SurfacePoint<3, Real> s{m.rho - radius, origin + m.along * axis + radius * m.outward, m.outward};
     return inverted ? complement(s) : s;
   }
 };
@@ -269,14 +279,10 @@ struct RevolvedWedge {
   Wedge<Real> profile;  // in (ρ, z)
 
   KOKKOS_INLINE_FUNCTION SurfacePoint<3, Real> query(const Vec<3, Real>& x) const {
-    const Vec<3, Real> r = x - origin;
-    const Real along = dot(r, axis);
-    const Vec<3, Real> radial = geometry_detail::cross(geometry_detail::cross(axis, r), axis);
-    const Real rho = geometry_detail::length(radial);
-    const Vec<3, Real> outward =
-        rho > Real(0) ? (Real(1) / rho) * radial : geometry_detail::any_perpendicular(axis);
-    const SurfacePoint<2, Real> m = profile.query(Vec<2, Real>{{rho, along}});
-    return {m.distance, origin + m.point[1] * axis + m.point[0] * outward, m.normal[0] * outward + m.normal[1] * axis};
+    const auto m = geometry_detail::meridian(x - origin, axis);
+    const SurfacePoint<2, Real> p = profile.query(Vec<2, Real>{{m.rho, m.along}});
+    return {p.distance, origin + p.point[1] * axis + p.point[0] * m.outward,
+            p.normal[0] * m.outward + p.normal[1] * axis};
   }
 };
 
