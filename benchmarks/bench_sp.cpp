@@ -1,13 +1,22 @@
-// bench_sp.cpp — the soft-particle many-body terms of the hopper study on a dense bidisperse 2D
-// packing (σ_l/σ_s = 1.4, packing fraction ≈ 0.85, overlapping contacts): the soft-sphere repulsion
-// (eq. 2) through the generic pair loop, kinetic friction (eq. 6) and drag (eq. 5), as one force
-// evaluation of a hopper time step. items_per_second = particle-updates/s. Neighbor-list upkeep is
-// measured separately in bench_common (BM_NeighborListBuild).
+// bench_sp.cpp — the many-body contact terms of the hopper study. items_per_second =
+// particle-updates/s (vertex-updates/s for DP). Neighbor-list upkeep is measured separately in
+// bench_common (BM_NeighborListBuild).
+//   BM_SoftParticleContactForces2D: soft-sphere repulsion (eq. 2) through the generic pair loop,
+//     kinetic friction (eq. 6) and drag (eq. 5) on a dense bidisperse packing (σ_l/σ_s = 1.4,
+//     packing fraction ≈ 0.85, overlapping contacts): one force evaluation of a hopper step.
+//   BM_SoftParticleWallRepulsion2D: eq. 3 over the four walls of a 2D hopper, particles filling it.
+//   BM_DeformablePolygonContacts: rough (eq. 9 + friction eq. 12) and smooth (Appendix A) contacts
+//     of bidisperse 16-gons pressed against their neighbours on a square lattice.
+#include "kernels/common/geometry.hpp"
 #include "kernels/common/neighbor_list.hpp"
 #include "kernels/common/pair_force.hpp"
+#include "kernels/dp/polygons.hpp"
+#include "kernels/dp/smooth_vertex_contacts.hpp"
+#include "kernels/dp/vertex_contacts.hpp"
 #include "kernels/sp/kinetic_friction.hpp"
 #include "kernels/sp/mass_proportional_drag.hpp"
 #include "kernels/sp/pair_repulsion.hpp"
+#include "kernels/sp/wall_repulsion.hpp"
 
 #include <benchmark/benchmark.h>
 
@@ -63,6 +72,99 @@ void BM_SoftParticleContactForces2D(benchmark::State& state) {
   state.SetItemsProcessed(int64_t(state.iterations()) * evaluations * n);
 }
 
+void BM_SoftParticleWallRepulsion2D(benchmark::State& state) {
+  const int n = int(state.range(0));
+  const double W = 60.0, height = n / (0.8 * W);
+  Particles<2, double, Exec> p(n, "bench_sp_walls");
+  {
+    std::mt19937 gen(2);
+    std::uniform_real_distribution<double> ux(-0.5 * W, 0.5 * W), uy(0.0, height);
+    auto x = Kokkos::create_mirror_view(p.x);
+    auto type = Kokkos::create_mirror_view(p.type);
+    for (int i = 0; i < n; ++i) x(i, 0) = ux(gen), x(i, 1) = uy(gen), type(i) = i % 2;
+    Kokkos::deep_copy(p.x, x);
+    Kokkos::deep_copy(p.type, type);
+  }
+  const Geometry<2, double, Exec> walls(hopper_walls_2d<double>(W, 6.0, 90.0));
+  const sp::SoftSphereRepulsion<double> sizes(100.0, {1.0, 1.4});
+  const int evaluations = 20;
+  for (auto _ : state) {
+    Kokkos::fence();
+    const auto t0 = std::chrono::steady_clock::now();
+    for (int k = 0; k < evaluations; ++k) {
+      p.zero_forces();
+      sp::accumulate_wall_repulsion(1e4, sizes, walls, p);
+    }
+    Kokkos::fence();
+    state.SetIterationTime(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+  }
+  state.SetItemsProcessed(int64_t(state.iterations()) * evaluations * n);
+}
+
+// range(0): polygons; range(1): 0 rough (eqs. 9 + 12), 1 smooth (Appendix A).
+void BM_DeformablePolygonContacts(benchmark::State& state) {
+  const int bodies = int(state.range(0)), nv = 16;
+  const bool smooth = state.range(1) == 1;
+  const int side = int(std::ceil(std::sqrt(double(bodies))));
+  const double spacing = 1.15, L = side * spacing;  // σ_avg = 1.2: neighbours press on each other
+  std::vector<int> counts(bodies, nv);
+  std::vector<double> a0(bodies), l0(bodies);
+  for (int b = 0; b < bodies; ++b) {
+    const double sigma = b % 2 ? 1.4 : 1.0;
+    a0[b] = 0.25 * dp::pi * sigma * sigma;
+    l0[b] = dp::regular_polygon_edge(a0[b], nv);
+  }
+  const auto polygons = dp::Polygons<double, Exec>::from_vertex_counts(counts, a0, l0);
+  Particles<2, double, Exec> p(bodies * nv, "bench_dp_contacts");
+  dp::assign_bodies(polygons, p);
+  {
+    std::mt19937 gen(3);
+    std::uniform_real_distribution<double> w(-0.1, 0.1);
+    auto x = Kokkos::create_mirror_view(p.x);
+    auto v = Kokkos::create_mirror_view(p.v);
+    auto type = Kokkos::create_mirror_view(p.type);
+    for (int b = 0; b < bodies; ++b) {
+      const double R = 0.5 * (b % 2 ? 1.4 : 1.0);
+      for (int k = 0; k < nv; ++k) {
+        const int i = b * nv + k;
+        x(i, 0) = ((b % side) + 0.5) * spacing + R * std::cos(2 * dp::pi * k / nv);
+        x(i, 1) = ((b / side) + 0.5) * spacing + R * std::sin(2 * dp::pi * k / nv);
+        v(i, 0) = w(gen), v(i, 1) = w(gen);
+        type(i) = b % 2;
+      }
+    }
+    Kokkos::deep_copy(p.x, x);
+    Kokkos::deep_copy(p.v, v);
+    Kokkos::deep_copy(p.type, type);
+  }
+  const Box<2, double> box = Box<2, double>::cube(L, true);
+  const double width = smooth ? 0.1 : 1.0;  // δ/l0: circulo-lines of 0.1 l0, or vertex disks of l0
+  const sp::SoftSphereRepulsion<double> contacts(1e4, {width * l0[0], width * l0[1]});
+  NeighborList<2, double, Exec> list(smooth ? 1.5 * l0[1] + contacts.cutoff() : contacts.cutoff(), 0.05,
+                                     NeighborListKind::full, BodyExclusion::same_body);
+  list.build(p, box);
+  PairForce<2, double, Exec> pair;
+  const int evaluations = 20;
+  for (auto _ : state) {
+    Kokkos::fence();
+    const auto t0 = std::chrono::steady_clock::now();
+    for (int k = 0; k < evaluations; ++k) {
+      p.zero_forces();
+      if (smooth) {
+        dp::accumulate_smooth_vertex_contacts(contacts, polygons, p, list, box);
+      } else {
+        dp::accumulate_vertex_contacts(contacts, p, list, box, pair);
+        dp::accumulate_vertex_friction(0.5, contacts, p, p.v, list, box);
+      }
+    }
+    Kokkos::fence();
+    state.SetIterationTime(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+  }
+  state.SetItemsProcessed(int64_t(state.iterations()) * evaluations * bodies * nv);
+}
+
+BENCHMARK(BM_SoftParticleWallRepulsion2D)->Arg(20000)->UseManualTime()->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_DeformablePolygonContacts)->Args({1600, 0})->Args({1600, 1})->UseManualTime()->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_SoftParticleContactForces2D)->Arg(1600)->Arg(20000)->UseManualTime()->Unit(benchmark::kMillisecond);
 
 }  // namespace
