@@ -9,6 +9,10 @@
 //
 // Step: modified velocity Verlet (λ = ½) with gravity, E_sp (full neighbor list with skin), E_w,
 // friction μ and drag ζ evaluated at the half-step velocity; zero coefficients cost nothing.
+// Neighbor upkeep: when the list needs a rebuild, every `sort_every_builds`-th time the particles
+// are first reordered into cell order (kernels/common/particle_sort.hpp; `ids()` keeps each
+// particle's original index), then the list is rebuilt and each particle's candidate walls (those
+// within σ_m/2 + skin) are marked, so the wall term queries only walls a particle can reach.
 //
 // Continuous flow (§2.4), every `detect_every` steps: one parallel_reduce marks particles whose
 // centre first passes below the orifice plane (height 0: they leave the hopper, adding their
@@ -26,6 +30,7 @@
 #include "kernels/common/fire.hpp"
 #include "kernels/common/geometry.hpp"
 #include "kernels/common/neighbor_list.hpp"
+#include "kernels/common/particle_sort.hpp"
 #include "kernels/common/pair_force.hpp"
 #include "kernels/common/particles.hpp"
 #include "kernels/common/reductions.hpp"
@@ -50,6 +55,7 @@ constexpr double recycle_depth = 2.0;       // σ_avg below the orifice before r
 constexpr double contact_tolerance = 1e-9;  // largest relative overlap of a re-inserted particle
 constexpr double initial_packing = 0.5;     // packing fraction of the random initial placement
 constexpr int detect_every = 10;            // steps between crossing/recycling checks
+constexpr int sort_every_builds = 20;       // neighbor-list rebuilds between particle sorts
 constexpr double pi = 3.14159265358979323846;
 
 struct HopperParameters {
@@ -119,11 +125,16 @@ class HopperScene {
         vv_(Real(par.dt)),
         p_(std::size_t(par.particles), "hopper"),
         outside_("mesoflow::hopper::outside", std::size_t(par.particles)),
+        ids_("mesoflow::hopper::id", std::size_t(par.particles)),
+        wall_candidates_("mesoflow::hopper::wall_candidates", std::size_t(par.particles)),
         rng_(par.seed ^ 0x9e3779b97f4a7c15ULL) {
     place_randomly();
+    const auto ids = ids_;
+    Kokkos::parallel_for(
+        "mesoflow::hopper::ids", Kokkos::RangePolicy<ExecSpace>(0, p_.size()), KOKKOS_LAMBDA(int i) { ids(i) = i; });
     x_host_ = Kokkos::create_mirror_view(p_.x);
     v_host_ = Kokkos::create_mirror_view(p_.v);
-    type_host_ = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), p_.type);
+    type_host_ = Kokkos::create_mirror_view(p_.type);
     outside_host_ = Kokkos::create_mirror_view(outside_);
   }
 
@@ -145,11 +156,11 @@ class HopperScene {
   // One step; every detect_every steps, the crossing count and (when needed) recycling.
   void step() {
     vv_.first_half(p_);
+    maintain_neighbors();
     const auto velocity = vv_.velocity_for_forces(p_);
-    list_.update(p_, box_);
     gravity_forces(gravity_on_);
-    pair_.accumulate(contacts_, p_, list_, box_);
-    sp::accumulate_wall_repulsion(Real(par_.wall_energy), contacts_, walls_, p_);
+    pair_.accumulate_forces(contacts_, p_, list_, box_);
+    sp::accumulate_wall_repulsion(Real(par_.wall_energy), contacts_, walls_, p_, wall_candidates_);
     sp::accumulate_kinetic_friction(Real(par_.friction), contacts_, p_, velocity, list_, box_);
     sp::accumulate_mass_proportional_drag(Real(par_.drag), p_, velocity);
     vv_.second_half(p_);
@@ -159,10 +170,10 @@ class HopperScene {
 
   // f ← −∇U (gravity if on, E_sp, E_w); returns U without gravity.
   double conservative_forces(bool with_gravity) {
-    list_.update(p_, box_);
+    maintain_neighbors();
     gravity_forces(with_gravity);
     double u = pair_.accumulate(contacts_, p_, list_, box_);
-    u += sp::accumulate_wall_repulsion(Real(par_.wall_energy), contacts_, walls_, p_);
+    u += sp::accumulate_wall_repulsion(Real(par_.wall_energy), contacts_, walls_, p_, wall_candidates_);
     return u;
   }
 
@@ -178,6 +189,9 @@ class HopperScene {
   }
 
   const particles_type& particles() const { return p_; }
+  // Original index of the particle now stored at each index (particles are sorted in memory).
+  const Kokkos::View<int*, ExecSpace>& ids() const { return ids_; }
+  int particle_sorts() const { return sorts_; }
   const HopperParameters& parameters() const { return par_; }
   const std::vector<Shape<D, Real>>& walls() const { return shapes_; }
   long long steps() const { return steps_; }
@@ -263,6 +277,18 @@ class HopperScene {
         });
   }
 
+  // Rebuilds the neighbor list when the skin criterion asks for it, sorting the particles into
+  // cell order first every sort_every_builds rebuilds, and re-marks the candidate walls.
+  void maintain_neighbors() {
+    if (!list_.needs_rebuild(p_.x, box_)) return;
+    if (list_.num_builds() > 0 && list_.num_builds() % sort_every_builds == 0) {
+      sort_particles_by_cell(p_, list_.cells(), outside_, ids_);
+      ++sorts_;
+    }
+    list_.build(p_, box_);
+    sp::find_wall_candidates(list_.skin(), contacts_, walls_, p_, wall_candidates_);
+  }
+
   // Marks first passages below the orifice plane, sums their area/volume, counts particles to recycle.
   void detect_crossings() {
     const auto x = p_.x;
@@ -332,6 +358,7 @@ class HopperScene {
     Kokkos::deep_copy(x_host_, p_.x);
     Kokkos::deep_copy(v_host_, p_.v);
     Kokkos::deep_copy(outside_host_, outside_);
+    Kokkos::deep_copy(type_host_, p_.type);
     const int n = int(p_.size());
     last_inserted_.clear();
     for (int i = 0; i < n; ++i)
@@ -394,11 +421,14 @@ class HopperScene {
   particles_type p_;
   Box<D, Real> box_;
   Kokkos::View<int*, ExecSpace> outside_;  // 1 once a particle has left through the orifice
+  Kokkos::View<int*, ExecSpace> ids_;      // original index of each stored particle
+  Kokkos::View<unsigned*, ExecSpace> wall_candidates_;
   typename particles_type::vector_view::HostMirror x_host_, v_host_;
   typename particles_type::int_view::HostMirror type_host_;
   typename Kokkos::View<int*, ExecSpace>::HostMirror outside_host_;
   std::mt19937_64 rng_;
   bool gravity_on_ = true;
+  int sorts_ = 0;
   long long steps_ = 0, crossings_ = 0, insertions_ = 0, last_recycling_step_ = -1;
   double crossed_ = 0, last_crossing_time_ = 0, max_insertion_overlap_ = 0;
   std::vector<int> last_inserted_;

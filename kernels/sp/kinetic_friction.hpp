@@ -6,7 +6,7 @@
 // Σ_m F_m·v_m = −(μ/2) Σ_contacts |v_m − v_n|² ≤ 0.
 //
 // One pass over a full neighbor list, each particle summing its own contacts (deterministic, no
-// atomics); v is the integrator's velocity for velocity-dependent forces (velocity_verlet.hpp).
+// atomics; dynamically scheduled, as pair_force.hpp's accumulate_forces); v is the integrator's velocity for velocity-dependent forces (velocity_verlet.hpp).
 #pragma once
 
 #include "kernels/common/box.hpp"
@@ -37,7 +37,8 @@ void accumulate_kinetic_friction(Real mu, const SoftSphereRepulsion<Real>& conta
   const auto type = p.type;
   const auto nbr = list.data();
   Kokkos::parallel_for(
-      "mesoflow::sp::kinetic_friction", Kokkos::RangePolicy<ExecSpace>(0, p.size()), KOKKOS_LAMBDA(int row) {
+      "mesoflow::sp::kinetic_friction", Kokkos::RangePolicy<ExecSpace, Kokkos::Schedule<Kokkos::Dynamic>>(0, p.size()).set_chunk_size(64),
+      KOKKOS_LAMBDA(int row) {
         const int i = nbr.particle(row);
         const Vec<D, Real> xi = Vec<D, Real>::load(x, i);
         const Vec<D, Real> vi = Vec<D, Real>::load(v, i);

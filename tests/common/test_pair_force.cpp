@@ -143,6 +143,32 @@ TYPED_TEST(PairForceTest, FullListForcesAreBitwiseReproducible) {
     for (int d = 0; d < 3; ++d) ASSERT_EQ(fa(i, d), fb(i, d));
 }
 
+// accumulate_forces (dynamic schedule, no energy) gives the forces of accumulate bitwise on a full
+// list, and adds to what is there; on a half list it is accumulate.
+TYPED_TEST(PairForceTest, ForcesOnlyLoopEqualsTheEnergyLoop) {
+  using Real = typename TypeParam::real;
+  using Exec = typename TypeParam::exec;
+  for (auto kind : {NeighborListKind::full, NeighborListKind::half}) {
+    LJSystem<3, Real, Exec> s(500, 10.0, kind, 9);
+    s.compute();
+    auto with_energy = Kokkos::create_mirror(s.p.f);
+    Kokkos::deep_copy(with_energy, s.p.f);
+    Kokkos::deep_copy(s.p.f, Real(0.25));
+    s.pair.accumulate_forces(s.lj, s.p, s.list, s.box);
+    auto forces_only = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), s.p.f);
+    double scale = 0;
+    for (int i = 0; i < 500; ++i)
+      for (int d = 0; d < 3; ++d) {
+        scale = std::max(scale, std::abs(double(with_energy(i, d))));
+        if (kind == NeighborListKind::full)
+          ASSERT_EQ(forces_only(i, d), Real(0.25) + with_energy(i, d));
+        else
+          EXPECT_NEAR(double(forces_only(i, d)), 0.25 + double(with_energy(i, d)), 1e3 * testing::eps<Real>() * scale);
+      }
+    EXPECT_GT(scale, 1.0);
+  }
+}
+
 TEST(LennardJones, WcaIsRepulsiveAndVanishesSmoothlyAtItsCutoff) {
   const auto wca = LennardJones<double>::wca(1.0, 1.0);
   double f, e;

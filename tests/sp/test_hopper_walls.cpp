@@ -149,5 +149,74 @@ TEST(WallRepulsion, UsesTheParticlesOwnDiameterAndSumsCorners) {
   EXPECT_NEAR(f(2, 1), 50 * 2.0 * (1 - 2 * 0.3), 1e-12);    // and up off the base
 }
 
+// Wall candidates marked with margin m, then every particle moved by up to m: the marked sum equals
+// the full sum bitwise (forces and energy); moved further, a particle can reach an unmarked wall.
+template <int D>
+void expect_candidates_give_the_full_sum(const std::vector<Shape<D, double>>& shapes, double extent) {
+  const int n = 4000;
+  const double margin = 0.3;
+  std::mt19937 gen(11);
+  std::uniform_real_distribution<double> lateral(-extent, extent), height(-1.0, 40.0), unit(-1, 1);
+  std::vector<Vec<D, double>> x(n);
+  for (auto& xi : x) {
+    for (int d = 0; d < D - 1; ++d) xi[d] = lateral(gen);
+    xi[D - 1] = height(gen);
+  }
+  WallScene<D> s(shapes, x);
+  Kokkos::View<unsigned*, Exec> candidates("candidates", n);
+  sp::find_wall_candidates(margin, s.sizes, s.walls, s.p, candidates);
+  for (auto& xi : x) {
+    Vec<D, double> step;
+    do {
+      for (int d = 0; d < D; ++d) step[d] = unit(gen);
+    } while (norm2(step) > 1);
+    xi += (margin * 0.999) * step;
+  }
+  WallScene<D> moved(shapes, x);
+  const double full = moved.energy();
+  auto f_full = Kokkos::create_mirror(moved.p.f);  // a copy, not an alias of the host-accessible view
+  Kokkos::deep_copy(f_full, moved.p.f);
+  moved.p.zero_forces();
+  const double marked = sp::accumulate_wall_repulsion(50.0, moved.sizes, moved.walls, moved.p, candidates);
+  const auto f_marked = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), moved.p.f);
+  EXPECT_GT(full, 1.0);
+  EXPECT_EQ(full, marked);
+  int touching = 0;
+  for (int i = 0; i < n; ++i) {
+    bool any = false;
+    for (int d = 0; d < D; ++d) {
+      EXPECT_EQ(f_full(i, d), f_marked(i, d)) << "particle " << i;
+      any = any || f_full(i, d) != 0;
+    }
+    touching += any;
+  }
+  const auto mask = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), candidates);
+  int marked_particles = 0;
+  for (int i = 0; i < n; ++i) marked_particles += mask(i) != 0;
+  std::cout << "[ candidates ] " << D << "D: " << touching << " particles touch a wall, " << marked_particles
+            << " of " << n << " marked\n";
+  EXPECT_GT(touching, 50);
+  EXPECT_LT(marked_particles, n / 2);  // the point: most particles skip the wall term
+  // Moved 3 margins instead, some particle reaches a wall it was not marked for.
+  WallScene<D> far(shapes, x);
+  {
+    auto h = Kokkos::create_mirror_view(far.p.x);
+    Kokkos::deep_copy(h, far.p.x);
+    for (int i = 0; i < n; ++i) h(i, D - 1) -= 3 * margin;
+    Kokkos::deep_copy(far.p.x, h);
+  }
+  const double far_full = far.energy();
+  far.p.zero_forces();
+  EXPECT_NE(far_full, sp::accumulate_wall_repulsion(50.0, far.sizes, far.walls, far.p, candidates));
+  Kokkos::View<unsigned*, Exec> wrong_size("wrong", n - 1);
+  EXPECT_THROW(sp::accumulate_wall_repulsion(50.0, far.sizes, far.walls, far.p, wrong_size), std::invalid_argument);
+  EXPECT_THROW(sp::find_wall_candidates(-0.1, s.sizes, s.walls, s.p, candidates), std::invalid_argument);
+}
+
+TEST(WallRepulsion, CandidateWallsGiveTheFullSumBitwise) {
+  expect_candidates_give_the_full_sum<2>(hopper_walls_2d<double>(30.0, 4.0, 60.0), 15.5);
+  expect_candidates_give_the_full_sum<3>(hopper_walls_3d<double>(24.0, 4.0, 90.0), 8.6);
+}
+
 }  // namespace
 }  // namespace mesoflow
