@@ -74,10 +74,11 @@ inline void block_average(const std::vector<double>& q, double& mean, double& er
 }
 
 // Steps `scene` until steady and measured, clogged, or max_time; after each window calls
-// on_window(scene, rate).
+// on_window(scene, rate, measuring), measuring true for the windows that make Q (those after the
+// steady state was detected; without a steady state, none).
 template <class Scene>
 FlowResult measure_flow_rate(Scene& scene, const FlowSettings& s,
-                             const std::function<void(const Scene&, double)>& on_window = {}) {
+                             const std::function<void(const Scene&, double, bool)>& on_window = {}) {
   s.validate();
   const long long steps_per_window = std::max(1LL, std::llround(s.window / scene.dt()));
   const double window = steps_per_window * scene.dt();
@@ -90,7 +91,7 @@ FlowResult measure_flow_rate(Scene& scene, const FlowSettings& s,
     const double q = (scene.crossed_measure() - crossed) / window;
     crossed = scene.crossed_measure();
     r.window_rates.push_back(q);
-    if (on_window) on_window(scene, q);
+    if (on_window) on_window(scene, q, measure_from >= 0);
     if (scene.time() - scene.last_crossing_time() >= s.clog_time) {
       r.clogged = true;
       r.end_time = scene.time();

@@ -9,17 +9,28 @@
 // then flow (drivers/hopper/hopper_scene.hpp; steady-state and clogging criteria in
 // drivers/hopper/flow_measurement.hpp).
 //
-// Output (<out> = --output without its extension): <out>.h5 (per width k: observable
-// window_flow_rate_<k>; attributes w_<k>, Q_<k>, Q_error_<k>, clogged_<k>, steady_<k>; parameters),
-// <out>.csv (w, Q, Q_error, clogged, steady), <out>.json (results, the fit), <out>_fit.csv (the fit,
-// when there is one), <out>.png (Q(w) with the fit; --no-plot skips it).
+// Measured over the windows that make Q (after the steady state), at each window's end:
+//   - the velocity profile on the hopper axis (§4, Fig. 5): Gaussian coarse-graining of width σ_avg
+//     (kernels/common/coarse_graining.hpp) at h = 0, 0.25, … 23.75 σ_avg above the orifice; the
+//     number density n(h), the paper's v_g(h) = Σ v_g,i φ (j_g), and the mean particle speed j_g/n;
+//   - the number density ρ_n in the 2w × w region above the orifice (3D: the cylinder of diameter 2w,
+//     height w) and the corrected flow rate Q' = Q/(ρ_n a_avg) of Appendix B.
+//
+// Output (<out> = --output without its extension): <out>.h5 (per width k: observables
+// window_flow_rate_<k>, profile_number_density_<k>, profile_vg_<k> (one frame, the window average);
+// attributes w_<k>, Q_<k>, Q_error_<k>, Q_corrected_<k>, clogged_<k>, steady_<k>; parameters),
+// <out>.csv (w, Q, Q_error, Q_corrected, number_density_orifice, clogged, steady), <out>_profile.csv
+// (w, h, n, vg_sum, vg_mean), <out>.json (results, the fit), <out>_fit.csv (the fit, when there is
+// one), <out>.png (Q(w) with the fit and the v_g(h) profiles; --no-plot skips it).
 #include "drivers/common/cli.hpp"
 #include "drivers/common/output_paths.hpp"
 #include "drivers/hopper/flow_measurement.hpp"
 #include "drivers/hopper/flow_rate_fits.hpp"
 #include "drivers/hopper/hopper_scene.hpp"
+#include "kernels/common/coarse_graining.hpp"
 #include "kernels/io/h5md_writer.hpp"
 
+#include <array>
 #include <chrono>
 #include <fstream>
 #include <iomanip>
@@ -29,6 +40,16 @@
 
 namespace mesoflow {
 namespace {
+
+constexpr int profile_points = 96;
+constexpr double profile_dh = 0.25;  // σ_avg between profile points, from h = 0
+
+// Window averages over the measuring windows of one width.
+struct WidthMeasurement {
+  std::array<double, profile_points> n{}, vg_sum{};
+  double orifice_count = 0;
+  int samples = 0;
+};
 
 struct Parameters {
   hopper::HopperParameters scene;
@@ -75,6 +96,8 @@ void run(const Parameters& par, const cli::DriverApp& app) {
   h5.emplace(out.trajectory, "mesoflow", MESOFLOW_VERSION, "mesoflow hopper");
   for (const auto& [key, value] : app.resolved_parameters()) h5->set_parameter(key, value);
   std::vector<hopper::FlowResult> results;
+  std::vector<WidthMeasurement> measured(widths.size());
+  std::vector<double> corrected, densities;
   const auto wall_start = std::chrono::steady_clock::now();
   long long steps = 0;
   for (std::size_t k = 0; k < widths.size(); ++k) {
@@ -83,9 +106,35 @@ void run(const Parameters& par, const cli::DriverApp& app) {
     hopper::HopperScene<D> scene(p);
     scene.relax();
     const std::string name = "window_flow_rate_" + std::to_string(k);
+    WidthMeasurement& m = measured[k];
     const auto r = hopper::measure_flow_rate<hopper::HopperScene<D>>(
-        scene, par.flow, [&](const hopper::HopperScene<D>& s, double q) { h5->append_observable(name, s.steps(), s.time(), q); });
+        scene, par.flow, [&](const hopper::HopperScene<D>& s, double q, bool measuring) {
+          h5->append_observable(name, s.steps(), s.time(), q);
+          if (!measuring) return;
+          const auto prof = gaussian_axis_profile<profile_points>(s.particles(), 0.0, profile_dh, 1.0);
+          for (int j = 0; j < profile_points; ++j) {
+            m.n[j] += prof.number_density[j];
+            m.vg_sum[j] += prof.velocity_sum[j];
+          }
+          m.orifice_count += s.orifice_region_count();
+          ++m.samples;
+        });
     const std::string suffix = "_" + std::to_string(k);
+    if (m.samples > 0) {
+      for (int j = 0; j < profile_points; ++j) {
+        m.n[j] /= m.samples;
+        m.vg_sum[j] /= m.samples;
+      }
+      m.orifice_count /= m.samples;
+      h5->append_observable("profile_number_density" + suffix, scene.steps(), scene.time(), m.n.data(), m.n.size());
+      h5->append_observable("profile_vg" + suffix, scene.steps(), scene.time(), m.vg_sum.data(), m.vg_sum.size());
+    }
+    const double rho_n = m.orifice_count / scene.orifice_region_measure();
+    const double Q_corrected =
+        rho_n > 0 ? hopper::corrected_flow_rate(r.Q, rho_n, hopper::HopperScene<D>::mean_particle_measure()) : NAN;
+    corrected.push_back(Q_corrected);
+    densities.push_back(rho_n);
+    h5->set_parameter("Q_corrected" + suffix, Q_corrected);
     h5->set_parameter("w" + suffix, widths[k]);
     h5->set_parameter("Q" + suffix, r.Q);
     h5->set_parameter("Q_error" + suffix, r.Q_error);
@@ -106,11 +155,12 @@ void run(const Parameters& par, const cli::DriverApp& app) {
   h5.reset();
 
   std::ofstream csv(out.csv);
-  csv << std::setprecision(10) << "w,Q,Q_error,clogged,steady\n";
+  csv << std::setprecision(10) << "w,Q,Q_error,Q_corrected,number_density_orifice,clogged,steady\n";
   std::vector<double> x, Q, Qe;
   for (std::size_t k = 0; k < widths.size(); ++k) {
     const auto& r = results[k];
-    csv << widths[k] << ',' << r.Q << ',' << r.Q_error << ',' << int(r.clogged) << ',' << int(r.steady) << '\n';
+    csv << widths[k] << ',' << r.Q << ',' << r.Q_error << ',' << corrected[k] << ',' << densities[k] << ','
+        << int(r.clogged) << ',' << int(r.steady) << '\n';
     if (!r.clogged && r.steady && r.Q > 0 && r.Q_error > 0) {
       x.push_back(widths[k]);
       Q.push_back(r.Q);
@@ -118,15 +168,27 @@ void run(const Parameters& par, const cli::DriverApp& app) {
     }
   }
   csv.close();
+  const std::string base = out.csv.substr(0, out.csv.size() - 4);
+  std::ofstream pcsv(base + "_profile.csv");
+  pcsv << std::setprecision(10) << "w,h,n,vg_sum,vg_mean\n";
+  for (std::size_t k = 0; k < widths.size(); ++k) {
+    const auto& m = measured[k];
+    if (m.samples == 0) continue;
+    for (int j = 0; j < profile_points; ++j)
+      pcsv << widths[k] << ',' << j * profile_dh << ',' << m.n[j] << ',' << m.vg_sum[j] << ','
+           << (m.n[j] > 1e-6 ? m.vg_sum[j] / m.n[j] : 0.0) << '\n';
+  }
+  pcsv.close();
   std::optional<hopper::BeverlooFit> fit;
   if (x.size() >= 4) fit = hopper::fit_beverloo(x, Q, Qe);
-  const std::string base = out.csv.substr(0, out.csv.size() - 4);
   std::ofstream json(out.summary);
   json << std::setprecision(10) << "{\n  \"driver\": \"hopper\",\n  \"dimension\": " << D << ",\n  \"results\": [";
   for (std::size_t k = 0; k < widths.size(); ++k) {
     const auto& r = results[k];
     json << (k ? "," : "") << "\n    {\"w\": " << widths[k] << ", \"Q\": " << r.Q << ", \"Q_error\": "
-         << (std::isfinite(r.Q_error) ? r.Q_error : -1.0) << ", \"clogged\": " << (r.clogged ? "true" : "false")
+         << (std::isfinite(r.Q_error) ? r.Q_error : -1.0)
+         << ", \"Q_corrected\": " << (std::isfinite(corrected[k]) ? corrected[k] : -1.0)
+         << ", \"number_density_orifice\": " << densities[k] << ", \"clogged\": " << (r.clogged ? "true" : "false")
          << ", \"steady\": " << (r.steady ? "true" : "false") << ", \"steady_time\": " << r.steady_time
          << ", \"end_time\": " << r.end_time << "}";
   }
@@ -148,8 +210,8 @@ void run(const Parameters& par, const cli::DriverApp& app) {
   json.close();
   if (!par.no_plot) {
     const std::string png = base + ".png";
-    std::vector<std::string> args{out.csv, png};
-    if (fit) args.push_back(base + "_fit.csv");
+    std::vector<std::string> args{out.csv, png, "--profile", base + "_profile.csv"};
+    if (fit) args.insert(args.end(), {"--fit", base + "_fit.csv"});
     driver::plot_with_matplotlib("hopper", "plot_hopper.py", args, png, app.quiet());
   }
   if (!app.quiet() && fit)

@@ -177,6 +177,29 @@ class HopperScene {
     return u;
   }
 
+  // Particles whose centres lie in the region above the orifice of Appendix B: 2D the 2w × w
+  // rectangle |x| < w, 0 < y < w; 3D the cylinder of diameter 2w and height w on the orifice.
+  int orifice_region_count() const {
+    const auto x = p_.x;
+    const double w = par_.orifice;
+    return int(parallel_sum<1, ExecSpace>(
+        "mesoflow::hopper::orifice_region", int(p_.size()), KOKKOS_LAMBDA(int i, double(&acc)[1]) {
+          double lateral2 = 0;
+          for (int d = 0; d < D - 1; ++d) lateral2 += double(x(i, d)) * double(x(i, d));
+          const double h = double(x(i, D - 1));
+          if (lateral2 < w * w && h > 0 && h < w) acc[0] += 1;
+        })[0]);
+  }
+  // Area (2D) or volume (3D) of that region.
+  double orifice_region_measure() const {
+    const double w = par_.orifice;
+    return D == 2 ? 2 * w * w : pi * w * w * w;
+  }
+  // Mean undeformed particle area (2D) or volume (3D), half small and half large: a_avg of Appendix B.
+  static double mean_particle_measure() {
+    return 0.5 * (particle_measure<D>(sigma_small) + particle_measure<D>(sigma_large));
+  }
+
   // Gravity is on unless a test switches it off (momentum conservation of the contact forces).
   void set_gravity(bool on) { gravity_on_ = on; }
 
