@@ -5,8 +5,9 @@
 // Units (§2.2): length σ_avg = (σ_s + σ_l)/2, acceleration g, density ρ (areal in 2D); time
 // t0 = √(σ_avg/g); E_sp, E_w as in §2.2; ζ, μ in ζ0 = μ0 = ρσ_avg^{d−1} g t0; Q in Q0 = σ_avg^d/t0
 // (area per t0 in 2D, volume in 3D). λ = ζ/μ is set by --drag and --friction.
-// Each width is an independent run from the same seed: random placement, FIRE without gravity,
-// then flow (drivers/hopper/hopper_scene.hpp; steady-state and clogging criteria in
+// Each width is an independent run with its own seed (--seed + the width's index, so the Q(w) of
+// different widths carry independent noise, as the Beverloo fit's χ² assumes): random placement,
+// FIRE without gravity, then flow (drivers/hopper/hopper_scene.hpp; steady-state and clogging criteria in
 // drivers/hopper/flow_measurement.hpp).
 //
 // Measured over the windows that make Q (after the steady state), at each window's end:
@@ -103,6 +104,7 @@ void run(const Parameters& par, const cli::DriverApp& app) {
   for (std::size_t k = 0; k < widths.size(); ++k) {
     hopper::HopperParameters p = par.scene;
     p.orifice = widths[k];
+    p.seed = par.scene.seed + k;
     hopper::HopperScene<D> scene(p);
     scene.relax();
     const std::string name = "window_flow_rate_" + std::to_string(k);
