@@ -1,0 +1,632 @@
+// dp_hopper_scene.hpp — continuous gravity-driven hopper flow of bidisperse deformable polygons (DP),
+// 2D (hopper-flows paper §2.3, §2.4, Appendix A): the DP counterpart of hopper_scene.hpp. Composes
+// the DP kernels, owns the state, steps it; physics stays in kernels/.
+//
+// Units (§2.2–2.3): σ_avg = g = ρ (areal) = 1, t0 = √(σ_avg/g). Half the polygons small (even body
+// index, effective diameter σ_s = 1/1.2), half large (σ_l = 1.4/1.2); preferred area a_m,0 = πσ_m²/4,
+// preferred edge l_m,0 = √(4 a_m,0 N_v tan(π/N_v))/N_v (the regular N_v-gon, §2.4), mass M_m = a_m,0,
+// vertex mass M_m/N_v (eq. 13). The dimensionless coefficients are the model's: k_a = K_a,
+// k_l = K_l (segment term k_l N_v/2 Σ(l − l0)², eq. 8), k_b = K_b, ε_c = E_c, ε_w = E_w, ζ/ζ0, μ/μ0.
+// Vertex contacts (eq. 9): rough (`smooth` false) — vertex disks of diameter δ_m = l_m,0; nearly
+// smooth (`smooth` true) — edges as circulo-lines of width δ_m = 0.1 l_m,0 (Appendix A). Walls act on
+// vertices with the same δ_m (eq. 10).
+//
+// Stiffness and time step. The explicit limit is computed from the stiffest modes of a small-particle
+// vertex (kernels/dp/stability.hpp for the wall, segment, area and bending modes; ω Δt ≤ 1, half the
+// Verlet limit) plus the vertex contacts: z = 3 contacts of stiffness ε_c/δ_s² (a vertex pressed into
+// a neighbour's face touches up to two of its vertices, and the pair's reduced mass adds one more),
+// and the damping rate ν = z μ/m_s + ζ/M_s of friction (eq. 12) and drag (eq. 11), with Δt ν ≤ 2
+// (the explicit limit of v' = −ν v at λ = ½). The paper's E_c = E_w = 10⁴ at Δt = 10⁻³ t0 is far
+// beyond the explicit limit (with δ_s = l_s,0 ≈ 0.165σ_avg the wall mode alone has ω ≈ 6.6·10³/t0);
+// the defaults E_c = E_w = 100 put the rough model's limit at 1.05·10⁻³ t0, so the paper's
+// Δt = 10⁻³ t0 is accepted without dissipation. With μ/μ0 = 10√10 (the paper's λ → 0 limit) the
+// friction rate alone limits Δt to 7.2·10⁻⁴ t0, and the smooth model (δ ten times smaller) to
+// ≈ 1.15·10⁻⁴ t0. A Δt above the limit is refused naming the limiting term; dt = 0 chooses
+// min(10⁻³ t0, 0.9 × limit). Checked on a 120-polygon hopper with μ = 10√10 (the friction term of the
+// limit lifted for the check): the non-rigid vertex velocities (rms ≈ 0.45 σ_avg/t0 in steady flow)
+// are the same at Δt = 10⁻⁴, 3·10⁻⁴ and 6.5·10⁻⁴ t0, and larger at 9·10⁻⁴–1.05·10⁻³ t0, approaching
+// the single-pair friction limit m_s/μ = 1.08·10⁻³ t0.
+//
+// Step: modified velocity Verlet (λ = ½) with gravity (−y) on every vertex; shape forces (eq. 8:
+// area, segment springs, bending; no line tension) and gravity in one loop over vertices; vertex
+// contacts (eq. 9, rough or smooth) over a full neighbor list that excludes pairs of the same polygon;
+// kinetic friction between contacting vertices of different polygons (eq. 12, rough model only: the
+// smooth model refuses μ > 0, there being no vertex–edge friction kernel; skipped at μ = 0); vertex–wall repulsion (eq. 10) over each vertex's candidate walls, re-marked at every
+// neighbor-list rebuild exactly as HopperScene does; uniform drag −(ζ/N_v) v per vertex (eq. 11,
+// kernels/dp/vertex_drag.hpp; skipped at ζ = 0). Friction and drag use the half-step velocity.
+// The vertices are never sorted in memory (kernels/common/particle_sort.hpp): dp::Polygons needs the
+// vertices of a body contiguous and in order, which a cell-order permutation of vertices breaks; each
+// polygon's own 16 vertices stay together, which keeps the shape loop local.
+//
+// Continuous flow (§2.4), every `detect_every` steps: one parallel_reduce over polygons, on the
+// centroids (centres of mass) of the step's BodyState, marks polygons whose centroid first passes
+// below the orifice plane (height 0), adding a_m,0 to the crossed area, and counts those whose
+// centroid is more than 2σ_avg below it. Only when that count is nonzero are positions and velocities
+// copied to host mirrors (made once) and each such polygon re-inserted as a rigid translate of its
+// current shape: a lateral target is drawn (host RNG keyed on the seed), the highest bulk polygon
+// whose centroid is within σ_avg of it laterally is the anchor (the highest bulk polygon overall if
+// that column is empty), and the polygon's centroid is put at a distance R_m + R_n + δ_mn from the
+// anchor's (R the circumradii about the centroids), straight up, then tilting away by 15° steps, at
+// the first position where none of its vertices is within δ_mn of another polygon's vertex (relative
+// tolerance 10⁻⁹, as HopperScene) or within δ_m/2 of a wall, no edge crosses another polygon's edge
+// and neither centroid lies inside the other polygon (smooth model: no vertex within δ_mn of another
+// polygon's edge either). Every vertex takes the anchor's centroid velocity. N is conserved.
+//
+// relax(): the polygons start as regular N_v-gons of random orientation, placed by random sequential
+// adsorption (circumcircles disjoint, large polygons first) at packing fraction 0.5 of a_m,0 in the
+// hopper above the exit walls; FIRE without gravity or dissipation then removes the vertex-disk
+// overlaps with each other and with the walls (§2.4).
+#pragma once
+
+#include "drivers/hopper/hopper_scene.hpp"
+#include "kernels/dp/area_force.hpp"
+#include "kernels/dp/bending_force.hpp"
+#include "kernels/dp/gravity.hpp"
+#include "kernels/dp/polygons.hpp"
+#include "kernels/dp/segment_spring_force.hpp"
+#include "kernels/dp/shape_forces.hpp"
+#include "kernels/dp/smooth_vertex_contacts.hpp"
+#include "kernels/dp/stability.hpp"
+#include "kernels/dp/vertex_contacts.hpp"
+#include "kernels/dp/vertex_drag.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <random>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace mesoflow::hopper {
+
+constexpr double dp_smooth_width = 0.1;      // δ_m/l_m,0 of the circulo-lines (§2.3, Appendix A)
+constexpr int dp_contacts_per_vertex = 3;    // z of the contact and friction stability terms
+constexpr double dp_paper_dt = 1e-3;         // Δt/t0 of §2.3
+constexpr double dp_auto_dt_fraction = 0.9;  // dt = 0: this fraction of the limit (if below 10⁻³)
+constexpr double dp_skin_fraction = 0.3;     // neighbor-list skin / l_l,0
+constexpr double dp_smooth_reach = 1.5;      // smooth list cutoff: this × l_l,0 + δ_l (edges stretch)
+
+// The explicit time-step limit of the DP hopper, term by term (see the file comment).
+struct DpHopperStability {
+  dp::StabilityLimit shape;   // wall, segment, area and bending modes (kernels/dp/stability.hpp)
+  double omega_contacts = 0;  // √(z ε_c/(δ_s² m_s))
+  double friction_rate = 0;   // z μ/m_s
+  double drag_rate = 0;       // ζ/M_s
+
+  double omega() const { return std::sqrt(shape.omega() * shape.omega() + omega_contacts * omega_contacts); }
+  double damping_rate() const { return friction_rate + drag_rate; }
+  // Largest Δt with ω Δt ≤ 1 and ν Δt ≤ 2.
+  double max_dt() const {
+    const double w = omega(), nu = damping_rate();
+    return std::min(w > 0 ? 1 / w : HUGE_VAL, nu > 0 ? 2 / nu : HUGE_VAL);
+  }
+  std::string limiting_term() const {
+    if (damping_rate() > 2 * omega())
+      return std::string(friction_rate >= drag_rate ? "friction μ" : "drag ζ") + " (damping rate " +
+             std::to_string(damping_rate()) + "/t0)";
+    const struct {
+      double w;
+      const char* name;
+    } terms[] = {{shape.omega_wall, "wall repulsion E_w"},
+                 {omega_contacts, "contact repulsion E_c"},
+                 {shape.omega_springs, "perimeter elasticity K_l"},
+                 {shape.omega_area, "area elasticity K_a"},
+                 {shape.omega_bending, "bending K_b"}};
+    const auto* top =
+        std::max_element(std::begin(terms), std::end(terms), [](const auto& a, const auto& b) { return a.w < b.w; });
+    return std::string(top->name) + " (ω = " + std::to_string(top->w) + "/t0 of a total " + std::to_string(omega()) +
+           "/t0)";
+  }
+};
+
+struct DpHopperParameters {
+  int particles = 300;               // N polygons, half small, half large
+  int vertices = 16;                 // N_v per polygon
+  double hopper_width = 20.0;        // W/σ_avg
+  double orifice = 6.0;              // w/σ_avg
+  double wall_angle = 90.0;          // θ_w in degrees
+  double area_stiffness = 1e4;       // K_a
+  double perimeter_stiffness = 10;   // K_l
+  double bending_stiffness = 0.1;    // K_b
+  double contact_energy = 100;       // E_c (the paper's 10⁴ is beyond the explicit limit, see above)
+  double wall_energy = 100;          // E_w (idem)
+  double drag = 0;                   // ζ/ζ0, eq. 11
+  double friction = 0;               // μ/μ0, eq. 12
+  bool smooth = false;               // false: rough vertex disks δ = l0; true: circulo-lines δ = 0.1 l0
+  double dt = dp_paper_dt;           // Δt/t0; 0: min(10⁻³, 0.9 × limit)
+  unsigned long long seed = 1;
+
+  // σ_m, a_m,0, l_m,0 and δ_m of a particle type (0 small, 1 large).
+  static double diameter(int type) { return type == 0 ? sigma_small : sigma_large; }
+  static double preferred_area(int type) { return pi / 4 * diameter(type) * diameter(type); }
+  double edge_length(int type) const { return dp::regular_polygon_edge(preferred_area(type), vertices); }
+  double vertex_diameter(int type) const { return (smooth ? dp_smooth_width : 1.0) * edge_length(type); }
+
+  DpHopperStability stability() const {
+    const double m = preferred_area(0) / vertices, l0 = edge_length(0), delta = vertex_diameter(0);
+    dp::StiffnessInputs s;
+    s.vertex_mass = m;
+    s.edge_length = l0;
+    s.perimeter = vertices * l0;
+    s.vertices = vertices;
+    s.wall_energy = wall_energy;
+    s.vertex_diameter = delta;
+    s.line_tension = 0;
+    s.perimeter_stiffness = perimeter_stiffness;
+    s.area_stiffness = area_stiffness;
+    s.bending_stiffness = bending_stiffness;
+    s.max_drag = 0;  // drag and friction: ν Δt ≤ 2 below
+    DpHopperStability r;
+    r.shape = dp::stability_limit(s);
+    r.omega_contacts = std::sqrt(dp_contacts_per_vertex * contact_energy / (delta * delta * m));
+    r.friction_rate = dp_contacts_per_vertex * friction / m;
+    r.drag_rate = drag / preferred_area(0);
+    return r;
+  }
+
+  // The time step a scene runs with: dt, or min(10⁻³, 0.9 × limit) for dt = 0.
+  double resolved_dt() const {
+    return dt > 0 ? dt : std::min(dp_paper_dt, dp_auto_dt_fraction * stability().max_dt());
+  }
+
+  // Throws std::invalid_argument naming the first parameter outside its range.
+  void validate() const {
+    auto require = [](bool ok, const std::string& name, const std::string& range, double value) {
+      if (!ok)
+        throw std::invalid_argument("dp hopper scene: " + name + " must be " + range + ", got " +
+                                    std::to_string(value));
+    };
+    auto finite_positive = [](double v) { return std::isfinite(v) && v > 0; };
+    auto finite_nonnegative = [](double v) { return std::isfinite(v) && v >= 0; };
+    require(particles >= 2, "particles N", ">= 2", particles);
+    require(vertices >= 8, "vertices N_v", ">= 8", vertices);
+    require(std::isfinite(hopper_width) && hopper_width >= 4 * sigma_large, "hopper width W", ">= 4 σ_l", hopper_width);
+    require(std::isfinite(orifice) && orifice > 0 && orifice < hopper_width, "orifice w", "in (0, W)", orifice);
+    require(std::isfinite(wall_angle) && wall_angle > 0 && wall_angle <= 90, "wall angle θ_w", "in (0, 90] degrees",
+            wall_angle);
+    require(finite_positive(area_stiffness), "area stiffness K_a", "finite and > 0", area_stiffness);
+    require(finite_positive(perimeter_stiffness), "perimeter stiffness K_l", "finite and > 0", perimeter_stiffness);
+    require(finite_nonnegative(bending_stiffness), "bending stiffness K_b", "finite and >= 0", bending_stiffness);
+    require(finite_positive(contact_energy), "contact energy E_c", "finite and > 0", contact_energy);
+    require(finite_nonnegative(wall_energy), "wall energy E_w", "finite and >= 0", wall_energy);
+    require(finite_nonnegative(drag), "drag ζ", "finite and >= 0", drag);
+    require(finite_nonnegative(friction), "friction μ", "finite and >= 0", friction);
+    // Eq. 12 between circulo-lines needs a vertex–edge friction kernel, which does not exist yet.
+    require(!smooth || friction == 0, "friction μ", "0 with smooth contacts (no vertex–edge friction kernel)",
+            friction);
+    require(std::isfinite(dt) && dt >= 0, "time step dt", "finite and >= 0 (0: automatic)", dt);
+    const auto limit = stability();
+    if (dt > limit.max_dt())
+      throw std::invalid_argument("dp hopper scene: time step dt must be <= " + std::to_string(limit.max_dt()) +
+                                  " (stability limit set by " + limit.limiting_term() + "), got " +
+                                  std::to_string(dt));
+  }
+};
+
+template <class Real = double, class ExecSpace = Kokkos::DefaultExecutionSpace>
+class DpHopperScene {
+ public:
+  using particles_type = Particles<2, Real, ExecSpace>;
+  using V = Vec<2, double>;
+
+  explicit DpHopperScene(const DpHopperParameters& par)
+      : par_((par.validate(), par)),
+        dt_(par.resolved_dt()),
+        shapes_(hopper_walls_2d<Real>(Real(par.hopper_width), Real(par.orifice), Real(par.wall_angle))),
+        walls_(shapes_),
+        polygons_(make_polygons(par)),
+        state_(par.particles),
+        contacts_(Real(par.contact_energy), {par.vertex_diameter(0), par.vertex_diameter(1)}),
+        list_(Real(par.smooth ? dp_smooth_reach * par.edge_length(1) + par.vertex_diameter(1)
+                              : par.vertex_diameter(1)),
+              Real(dp_skin_fraction * par.edge_length(1)), NeighborListKind::full, BodyExclusion::same_body),
+        vv_(Real(dt_)),
+        p_(std::size_t(par.particles) * std::size_t(par.vertices), "dp_hopper"),
+        outside_("mesoflow::dp_hopper::outside", std::size_t(par.particles)),
+        wall_candidates_("mesoflow::dp_hopper::wall_candidates", p_.size()),
+        rng_(par.seed ^ 0x9e3779b97f4a7c15ULL) {
+    dp::assign_bodies(polygons_, p_);
+    x_host_ = Kokkos::create_mirror_view(p_.x);
+    v_host_ = Kokkos::create_mirror_view(p_.v);
+    outside_host_ = Kokkos::create_mirror_view(outside_);
+    place_randomly();
+  }
+
+  // FIRE without gravity or dissipation: removes the overlaps of the random placement (§2.4).
+  FireResult relax(int max_iterations = 20000) {
+    FireParameters fire;
+    fire.dt_start = dt_;
+    fire.dt_max = std::max(dt_, 0.5 / par_.stability().omega());
+    fire.max_iterations = max_iterations;
+    fire.force_tolerance = relax_tolerance * par_.contact_energy;
+    const auto result = fire_minimize(p_, [&] { return conservative_forces(false); }, fire);
+    if (!result.converged)
+      throw std::runtime_error("dp hopper scene: FIRE did not remove the initial overlaps in " +
+                               std::to_string(max_iterations) + " iterations (max |F| " +
+                               std::to_string(result.max_force) + ")");
+    return result;
+  }
+
+  // One step; every detect_every steps, the crossing count and (when needed) recycling.
+  void step() {
+    vv_.first_half(p_);
+    maintain_neighbors();
+    const auto velocity = vv_.velocity_for_forces(p_);
+    p_.zero_forces();
+    dp::update_body_state(polygons_, p_, state_);
+    shape_forces(gravity_on_);
+    if (par_.smooth) {
+      dp::accumulate_smooth_vertex_contacts(contacts_, polygons_, p_, list_, box_);
+    } else {
+      // eq. 9 through the generic pair loop's dynamically scheduled force-only pass (the step needs no
+      // energy); dp::accumulate_vertex_contacts is the same loop with an energy reduction.
+      dp::require_same_body_exclusion(list_);
+      pair_.accumulate_forces(contacts_, p_, list_, box_);
+    }
+    dp::accumulate_vertex_friction(Real(par_.friction), contacts_, p_, velocity, list_, box_);
+    sp::accumulate_wall_repulsion(Real(par_.wall_energy), contacts_, walls_, p_, wall_candidates_);
+    dp::accumulate_vertex_drag(Real(par_.drag), polygons_, p_, velocity);
+    vv_.second_half(p_);
+    ++steps_;
+    if (steps_ % detect_every == 0) detect_crossings();
+  }
+
+  // f ← −∇U (shape, gravity if on, contacts, walls) at the current positions; returns U.
+  double conservative_forces(bool with_gravity) {
+    maintain_neighbors();
+    p_.zero_forces();
+    dp::update_body_state(polygons_, p_, state_);
+    double u = shape_forces(with_gravity);
+    u += par_.smooth ? dp::accumulate_smooth_vertex_contacts(contacts_, polygons_, p_, list_, box_)
+                     : dp::accumulate_vertex_contacts(contacts_, p_, list_, box_, pair_);
+    u += sp::accumulate_wall_repulsion(Real(par_.wall_energy), contacts_, walls_, p_, wall_candidates_);
+    return u;
+  }
+
+  // Per-polygon area, perimeter, centroid and its velocity at the current state (left on the device).
+  const dp::BodyState<Real, ExecSpace>& update_body_state() {
+    dp::update_body_state(polygons_, p_, state_);
+    return state_;
+  }
+
+  // Gravity is on unless a test switches it off (momentum conservation of the contact forces).
+  void set_gravity(bool on) { gravity_on_ = on; }
+
+  // Vertex velocities from the host (setup and tests).
+  void set_velocities(const std::vector<V>& v) {
+    if (v.size() != p_.size()) throw std::invalid_argument("dp hopper scene: velocities for the wrong vertex count");
+    for (std::size_t i = 0; i < v.size(); ++i)
+      for (int d = 0; d < 2; ++d) v_host_(i, d) = Real(v[i][d]);
+    Kokkos::deep_copy(p_.v, v_host_);
+  }
+
+  const particles_type& particles() const { return p_; }
+  const dp::Polygons<Real, ExecSpace>& polygons() const { return polygons_; }
+  const DpHopperParameters& parameters() const { return par_; }
+  const std::vector<Shape<2, Real>>& walls() const { return shapes_; }
+  const sp::SoftSphereRepulsion<Real>& contacts() const { return contacts_; }  // ε_c and δ_mn by type
+  int neighbor_builds() const { return list_.num_builds(); }
+  long long steps() const { return steps_; }
+  double time() const { return double(steps_) * dt_; }
+  double dt() const { return dt_; }
+  double crossed_measure() const { return crossed_; }  // area out of the orifice
+  long long crossings() const { return crossings_; }
+  double last_crossing_time() const { return last_crossing_time_; }
+  long long insertions() const { return insertions_; }
+  const std::vector<int>& last_inserted() const { return last_inserted_; }  // polygons of the latest recycling
+  long long last_recycling_step() const { return last_recycling_step_; }
+  double max_insertion_overlap() const { return max_insertion_overlap_; }   // over all insertions
+
+ private:
+  // FIRE stops at max |F_i| < 10⁻³ E_c: contact overlaps ξ below ~2·10⁻⁴ δ (F = ε_c ξ/δ), wall
+  // overlaps half that; a tighter bound only slowly settles the soft modes of the polygons.
+  static constexpr double relax_tolerance = 1e-3;
+
+  static dp::Polygons<Real, ExecSpace> make_polygons(const DpHopperParameters& par) {
+    std::vector<int> counts(std::size_t(par.particles), par.vertices);
+    std::vector<Real> a0(counts.size()), l0(counts.size());
+    for (std::size_t b = 0; b < counts.size(); ++b) {
+      a0[b] = Real(DpHopperParameters::preferred_area(int(b % 2)));
+      l0[b] = Real(par.edge_length(int(b % 2)));
+    }
+    return dp::Polygons<Real, ExecSpace>::from_vertex_counts(counts, a0, l0);
+  }
+
+  int type_of(int body) const { return body % 2; }
+  int nv() const { return par_.vertices; }
+
+  // Circumradius of the regular polygon of a type (place_regular_polygon's radius).
+  double regular_radius(int type) const {
+    return std::sqrt(2.0 * DpHopperParameters::preferred_area(type) / (nv() * std::sin(2.0 * pi / nv())));
+  }
+
+  // Random sequential adsorption of regular polygons (circumcircles disjoint, a vertex disk's half
+  // width from the side walls), large first, in a column above the exit walls tall enough for
+  // packing fraction 0.5 of the preferred areas; the column grows by σ_avg/2 whenever 2000 draws in
+  // a row fail. Then the box for the cell list around it.
+  void place_randomly() {
+    const int n = par_.particles;
+    double total = 0;
+    for (int b = 0; b < n; ++b) total += DpHopperParameters::preferred_area(type_of(b));
+    const double half = 0.5 * par_.hopper_width;
+    const double bottom = 0.5 * (par_.hopper_width - par_.orifice) / std::tan(par_.wall_angle * pi / 180) + sigma_large;
+    double top = bottom + total / (initial_packing * 2 * (half - 0.5 * sigma_large));
+    std::mt19937_64 gen(par_.seed);
+    std::uniform_real_distribution<double> u(0, 1);
+    std::vector<int> order;
+    for (int b = 1; b < n; b += 2) order.push_back(b);
+    for (int b = 0; b < n; b += 2) order.push_back(b);
+    // A grid of cells 2 R_l wide: a new circle can only meet circles in the 3 × 3 cells around it.
+    const double cell = 2 * regular_radius(1);
+    const int nx = std::max(1, int(2 * half / cell));
+    std::vector<std::vector<int>> grid;
+    auto cell_of = [&](const V& c) {
+      const int i = std::min(nx - 1, std::max(0, int((c[0] + half) / cell)));
+      const int j = std::max(0, int((c[1] - bottom) / cell));
+      if (std::size_t(j) >= grid.size() / std::size_t(nx)) grid.resize(std::size_t(j + 2) * std::size_t(nx));
+      return std::array<int, 2>{{i, j}};
+    };
+    std::vector<V> centre(static_cast<std::size_t>(n));
+    for (const int b : order) {
+      const double r = regular_radius(type_of(b));
+      const double lateral = half - r - 0.5 * par_.vertex_diameter(type_of(b));
+      for (int failures = 0;; ++failures) {
+        if (failures == 2000) {
+          top += 0.5;
+          failures = 0;
+        }
+        const V c{{lateral * (2 * u(gen) - 1), bottom + (top - bottom) * u(gen)}};
+        const auto ij = cell_of(c);
+        bool free = true;
+        for (int dj = -1; dj <= 1 && free; ++dj)
+          for (int di = -1; di <= 1 && free; ++di) {
+            const int i = ij[0] + di, j = ij[1] + dj;
+            if (i < 0 || i >= nx || j < 0 || std::size_t(j) * nx >= grid.size()) continue;
+            for (const int k : grid[std::size_t(j) * nx + i]) {
+              const double s = r + regular_radius(type_of(k));
+              if (std::pow(c[0] - centre[k][0], 2) + std::pow(c[1] - centre[k][1], 2) < s * s) {
+                free = false;
+                break;
+              }
+            }
+          }
+        if (!free) continue;
+        centre[b] = c;
+        grid[std::size_t(ij[1]) * nx + ij[0]].push_back(b);
+        dp::place_regular_polygon(polygons_, b, x_host_, c, 2 * pi * u(gen));
+        break;
+      }
+    }
+    auto type = Kokkos::create_mirror_view(p_.type);
+    auto mass = Kokkos::create_mirror_view(p_.mass);
+    for (int b = 0; b < n; ++b)
+      for (int i = polygons_.first_vertex(b); i < polygons_.first_vertex(b) + nv(); ++i) {
+        type(i) = type_of(b);
+        mass(i) = Real(DpHopperParameters::preferred_area(type_of(b)) / nv());
+      }
+    Kokkos::deep_copy(p_.x, x_host_);
+    Kokkos::deep_copy(p_.type, type);
+    Kokkos::deep_copy(p_.mass, mass);
+    const Real lo[2] = {Real(-half - 1), Real(-recycle_depth - 2)};
+    const Real len[2] = {Real(par_.hopper_width + 2), Real(top + recycle_depth + 4)};
+    const bool periodic[2] = {false, false};
+    box_ = Box<2, Real>(lo, len, periodic);
+  }
+
+  // f += shape and gravity forces (eq. 8 without line tension; bending only at K_b > 0); returns
+  // their energy (gravity's −M g h included). `state_` must be current.
+  double shape_forces(bool with_gravity) {
+    const dp::AreaElasticity<Real> area{Real(par_.area_stiffness)};
+    const dp::SegmentSprings<Real> springs{Real(par_.perimeter_stiffness)};
+    const dp::Gravity<Real> gravity{Vec<2, Real>{{Real(0), with_gravity ? Real(-1) : Real(0)}}};
+    if (par_.bending_stiffness > 0)
+      return dp::accumulate_shape_forces(polygons_, state_, p_, area, springs,
+                                         dp::Bending<Real>{Real(par_.bending_stiffness)}, gravity);
+    return dp::accumulate_shape_forces(polygons_, state_, p_, area, springs, gravity);
+  }
+
+  // Rebuilds the neighbor list when the skin criterion asks for it and re-marks the candidate walls.
+  void maintain_neighbors() {
+    if (!list_.needs_rebuild(p_.x, box_)) return;
+    list_.build(p_, box_);
+    sp::find_wall_candidates(list_.skin(), contacts_, walls_, p_, wall_candidates_);
+  }
+
+  // Marks first passages of centroids below the orifice plane, sums their a_m,0, counts polygons to recycle.
+  void detect_crossings() {
+    const auto com = state_.com;
+    const auto a0 = polygons_.a0;
+    const auto outside = outside_;
+    const Real depth = Real(-recycle_depth);
+    const auto sums = parallel_sum<3, ExecSpace>(
+        "mesoflow::dp_hopper::detect_crossings", par_.particles, KOKKOS_LAMBDA(int b, double(&acc)[3]) {
+          const Real h = com(b, 1);
+          if (outside(b) == 0 && h < Real(0)) {
+            outside(b) = 1;
+            acc[0] += double(a0(b));
+            acc[1] += 1;
+          }
+          if (h < depth) acc[2] += 1;
+        });
+    if (sums[1] > 0) {
+      crossed_ += sums[0];
+      crossings_ += (long long)(sums[1]);
+      last_crossing_time_ = time();
+    }
+    if (sums[2] > 0) recycle();
+  }
+
+  // Centroid, centroid velocity and circumradius about the centroid of a polygon, from the host copies.
+  struct HostBody {
+    V com, velocity;
+    double radius;
+  };
+  HostBody host_body(int b) const {
+    const int begin = polygons_.first_vertex(b);
+    HostBody h{V{{0, 0}}, V{{0, 0}}, 0};
+    for (int i = begin; i < begin + nv(); ++i)
+      for (int d = 0; d < 2; ++d) {
+        h.com[d] += double(x_host_(i, d)) / nv();
+        h.velocity[d] += double(v_host_(i, d)) / nv();
+      }
+    for (int i = begin; i < begin + nv(); ++i)
+      h.radius = std::max(h.radius, std::hypot(double(x_host_(i, 0)) - h.com[0], double(x_host_(i, 1)) - h.com[1]));
+    return h;
+  }
+
+  static double cross2(const V& a, const V& b) { return a[0] * b[1] - a[1] * b[0]; }
+  // Distance from q to the segment a–b.
+  static double point_segment_distance(const V& q, const V& a, const V& b) {
+    const V ab{{b[0] - a[0], b[1] - a[1]}}, aq{{q[0] - a[0], q[1] - a[1]}};
+    const double l2 = ab[0] * ab[0] + ab[1] * ab[1];
+    const double t = l2 > 0 ? std::clamp((aq[0] * ab[0] + aq[1] * ab[1]) / l2, 0.0, 1.0) : 0.0;
+    return std::hypot(aq[0] - t * ab[0], aq[1] - t * ab[1]);
+  }
+  // Whether the segments a–b and c–d cross (proper intersection or touching).
+  static bool segments_cross(const V& a, const V& b, const V& c, const V& d) {
+    const V ab{{b[0] - a[0], b[1] - a[1]}}, cd{{d[0] - c[0], d[1] - c[1]}};
+    const double s1 = cross2(ab, V{{c[0] - a[0], c[1] - a[1]}}), s2 = cross2(ab, V{{d[0] - a[0], d[1] - a[1]}});
+    const double s3 = cross2(cd, V{{a[0] - c[0], a[1] - c[1]}}), s4 = cross2(cd, V{{b[0] - c[0], b[1] - c[1]}});
+    return s1 * s2 <= 0 && s3 * s4 <= 0;
+  }
+  // Whether q lies inside the polygon `vertices` (even–odd rule).
+  static bool inside(const V& q, const std::vector<V>& vertices) {
+    bool in = false;
+    for (std::size_t i = 0, j = vertices.size() - 1; i < vertices.size(); j = i++) {
+      const V& a = vertices[i];
+      const V& b = vertices[j];
+      if ((a[1] > q[1]) != (b[1] > q[1]) && q[0] < a[0] + (b[0] - a[0]) * (q[1] - a[1]) / (b[1] - a[1])) in = !in;
+    }
+    return in;
+  }
+
+  // Largest relative overlap of polygon i with its vertices at `shape` (centroid `com`): 1 − r/δ_mn
+  // for each vertex pair (smooth: vertex–edge distance) of i and another polygon, 1 − 2d_w/δ_m for
+  // each vertex and wall, and 1 for crossing edges or a centroid inside the other polygon.
+  double overlap_at(int i, const std::vector<V>& shape, const V& com, double radius,
+                    const std::vector<HostBody>& bodies) const {
+    double worst = 0;
+    const int ti = type_of(i);
+    std::vector<V> other(static_cast<std::size_t>(nv()));
+    for (int k = 0; k < par_.particles; ++k) {
+      if (k == i) continue;
+      // Circumcircles farther apart than the widest δ_mn: nothing of k is within reach.
+      const double dx = bodies[k].com[0] - com[0], dy = bodies[k].com[1] - com[1];
+      if (dx * dx + dy * dy > std::pow(radius + bodies[k].radius + par_.vertex_diameter(1), 2)) continue;
+      const int begin = polygons_.first_vertex(k);
+      for (int j = 0; j < nv(); ++j) other[j] = V{{double(x_host_(begin + j, 0)), double(x_host_(begin + j, 1))}};
+      const double s = double(contacts_.contact[ti][type_of(k)]);
+      if (inside(com, other) || inside(bodies[k].com, shape)) return 1;
+      for (int a = 0; a < nv(); ++a) {
+        const V& pa = shape[a];
+        const V& pa_next = shape[(a + 1) % nv()];
+        for (int b = 0; b < nv(); ++b) {
+          const V& pb = other[b];
+          const V& pb_next = other[(b + 1) % nv()];
+          if (segments_cross(pa, pa_next, pb, pb_next)) return 1;
+          const double r = par_.smooth ? std::min(point_segment_distance(pa, pb, pb_next),
+                                                  point_segment_distance(pb, pa, pa_next))
+                                       : std::hypot(pa[0] - pb[0], pa[1] - pb[1]);
+          if (r < s) worst = std::max(worst, 1 - r / s);
+        }
+      }
+    }
+    const double delta = par_.vertex_diameter(ti);
+    for (const V& q : shape)
+      for (const auto& wall : shapes_) {
+        const double dist = double(wall.query(Vec<2, Real>{{Real(q[0]), Real(q[1])}}).distance);
+        if (dist < 0.5 * delta) worst = std::max(worst, 1 - 2 * dist / delta);
+      }
+    return worst;
+  }
+
+  // Host re-insertion of every polygon whose centroid is more than recycle_depth below the orifice.
+  void recycle() {
+    Kokkos::deep_copy(x_host_, p_.x);
+    Kokkos::deep_copy(v_host_, p_.v);
+    Kokkos::deep_copy(outside_host_, outside_);
+    const int n = par_.particles;
+    std::vector<HostBody> bodies(static_cast<std::size_t>(n));
+    for (int b = 0; b < n; ++b) bodies[b] = host_body(b);
+    last_inserted_.clear();
+    for (int b = 0; b < n; ++b)
+      if (bodies[b].com[1] < -recycle_depth) last_inserted_.push_back(b);
+    std::vector<V> dirs;
+    for (int tilt = 0; tilt <= 6; ++tilt) {
+      const double a = tilt * pi / 12;
+      dirs.push_back(V{{std::sin(a), std::cos(a)}});
+      if (tilt > 0) dirs.push_back(V{{-std::sin(a), std::cos(a)}});
+    }
+    const double r = 0.5 * par_.hopper_width - 0.5 * sigma_large;
+    std::uniform_real_distribution<double> u(-1, 1);
+    std::vector<V> shape(static_cast<std::size_t>(nv()));
+    for (const int i : last_inserted_) {
+      const double target = r * u(rng_);
+      // Anchors: bulk polygons (inside the hopper, not awaiting re-insertion), those within σ_avg of
+      // the target laterally first, each group highest first.
+      std::vector<std::pair<double, int>> order;
+      for (int k = 0; k < n; ++k) {
+        if (outside_host_(k) != 0 || bodies[k].com[1] < -recycle_depth) continue;
+        order.emplace_back((std::abs(bodies[k].com[0] - target) < 1 ? 1e9 : 0) + bodies[k].com[1], k);
+      }
+      std::sort(order.begin(), order.end(), [](const auto& a, const auto& b) {
+        return a.first != b.first ? a.first > b.first : a.second < b.second;
+      });
+      const int begin = polygons_.first_vertex(i);
+      bool placed = false;
+      for (const auto& [key, j] : order) {
+        const double s = bodies[i].radius + bodies[j].radius + double(contacts_.contact[type_of(i)][type_of(j)]);
+        for (const auto& dir : dirs) {
+          const V c{{bodies[j].com[0] + s * dir[0], bodies[j].com[1] + s * dir[1]}};
+          for (int k = 0; k < nv(); ++k)
+            for (int d = 0; d < 2; ++d) shape[k][d] = c[d] + double(x_host_(begin + k, d)) - bodies[i].com[d];
+          const double overlap = overlap_at(i, shape, c, bodies[i].radius, bodies);
+          if (overlap > contact_tolerance) continue;
+          for (int k = 0; k < nv(); ++k)
+            for (int d = 0; d < 2; ++d) {
+              x_host_(begin + k, d) = Real(shape[k][d]);
+              v_host_(begin + k, d) = Real(bodies[j].velocity[d]);
+            }
+          bodies[i].com = c;
+          bodies[i].velocity = bodies[j].velocity;
+          outside_host_(i) = 0;
+          max_insertion_overlap_ = std::max(max_insertion_overlap_, overlap);
+          placed = true;
+          break;
+        }
+        if (placed) break;
+      }
+      if (!placed) throw std::runtime_error("dp hopper scene: no place to re-insert polygon " + std::to_string(i));
+      ++insertions_;
+    }
+    Kokkos::deep_copy(p_.x, x_host_);
+    Kokkos::deep_copy(p_.v, v_host_);
+    Kokkos::deep_copy(outside_, outside_host_);
+    last_recycling_step_ = steps_;
+  }
+
+  DpHopperParameters par_;
+  double dt_;
+  std::vector<Shape<2, Real>> shapes_;
+  Geometry<2, Real, ExecSpace> walls_;
+  dp::Polygons<Real, ExecSpace> polygons_;
+  dp::BodyState<Real, ExecSpace> state_;
+  sp::SoftSphereRepulsion<Real> contacts_;  // ε_c and δ_mn by vertex type; its diagonal gives δ_m for the walls
+  NeighborList<2, Real, ExecSpace> list_;
+  PairForce<2, Real, ExecSpace> pair_;
+  VelocityVerlet<2, Real, ExecSpace> vv_;
+  particles_type p_;
+  Box<2, Real> box_;
+  Kokkos::View<int*, ExecSpace> outside_;  // per polygon: 1 once its centroid has left through the orifice
+  Kokkos::View<unsigned*, ExecSpace> wall_candidates_;
+  typename particles_type::vector_view::HostMirror x_host_, v_host_;
+  typename Kokkos::View<int*, ExecSpace>::HostMirror outside_host_;
+  std::mt19937_64 rng_;
+  bool gravity_on_ = true;
+  long long steps_ = 0, crossings_ = 0, insertions_ = 0, last_recycling_step_ = -1;
+  double crossed_ = 0, last_crossing_time_ = 0, max_insertion_overlap_ = 0;
+  std::vector<int> last_inserted_;
+};
+
+}  // namespace mesoflow::hopper
