@@ -1,10 +1,14 @@
-// hopper — continuous gravity-driven hopper flow of bidisperse soft particles (hopper-flows paper
-// §2.1–2.4, §4): sweeps the orifice width w, measures the steady flow rate Q(w) or clogging at each,
-// and fits the Beverloo law Q = C(w/σ_avg − k)^β (eq. 1) when at least 4 widths flow.
+// hopper — continuous gravity-driven hopper flow of bidisperse soft particles (SP, 2D and 3D) or
+// deformable polygons (DP, 2D) (hopper-flows paper §2.1–2.4, §4): sweeps the orifice width w,
+// measures the steady flow rate Q(w) or clogging at each, and fits the Beverloo law
+// Q = C(w/σ_avg − k)^β (eq. 1) when at least 4 widths flow. Scenes: drivers/hopper/hopper_scene.hpp
+// (SP), drivers/hopper/dp_hopper_scene.hpp (DP: K_a, K_l, K_b of eq. 8, E_c of eq. 9, rough or
+// smooth contacts, E_w of eq. 10, ζ of eq. 11, μ of eq. 12).
 //
 // Units (§2.2): length σ_avg = (σ_s + σ_l)/2, acceleration g, density ρ (areal in 2D); time
 // t0 = √(σ_avg/g); E_sp, E_w as in §2.2; ζ, μ in ζ0 = μ0 = ρσ_avg^{d−1} g t0; Q in Q0 = σ_avg^d/t0
-// (area per t0 in 2D, volume in 3D). λ = ζ/μ is set by --drag and --friction.
+// (area per t0 in 2D, volume in 3D). λ = ζ/μ is set by --drag and --friction. --dt 0 (the
+// default) takes min(10⁻³ t0, 0.9 × the scene's explicit stability limit); a larger --dt is refused.
 // Each width is an independent run with its own seed (--seed + the width's index, so the Q(w) of
 // different widths carry independent noise, as the Beverloo fit's χ² assumes): random placement,
 // FIRE without gravity, then flow (drivers/hopper/hopper_scene.hpp; steady-state and clogging criteria in
@@ -15,7 +19,10 @@
 //     (kernels/common/coarse_graining.hpp) at h = 0, 0.25, … 23.75 σ_avg above the orifice; the
 //     number density n(h), the paper's v_g(h) = Σ v_g,i φ (j_g), and the mean particle speed j_g/n;
 //   - the number density ρ_n in the 2w × w region above the orifice (3D: the cylinder of diameter 2w,
-//     height w) and the corrected flow rate Q' = Q/(ρ_n a_avg) of Appendix B.
+//     height w) and the corrected flow rate Q' = Q/(ρ_n a_avg) of Appendix B (SP only: the correction
+//     is for overlapping soft particles; DP polygons keep their area, and Q' is not written).
+// For DP the profile is coarse-grained over vertices (every polygon has N_v of them, so the mean
+// vertex speed is the mean polygon speed, smeared over the polygon's extent).
 //
 // Output (<out> = --output without its extension): <out>.h5 (per width k: observables
 // window_flow_rate_<k>, profile_number_density_<k>, profile_vg_<k> (one frame, the window average);
@@ -27,6 +34,7 @@
 #include "drivers/common/output_paths.hpp"
 #include "drivers/hopper/flow_measurement.hpp"
 #include "drivers/hopper/flow_rate_fits.hpp"
+#include "drivers/hopper/dp_hopper_scene.hpp"
 #include "drivers/hopper/hopper_scene.hpp"
 #include "kernels/common/coarse_graining.hpp"
 #include "kernels/io/h5md_writer.hpp"
@@ -54,7 +62,10 @@ struct WidthMeasurement {
 
 struct Parameters {
   hopper::HopperParameters scene;
+  hopper::DpHopperParameters dp;
   hopper::FlowSettings flow;
+  std::string model = "sp";
+  double dt = 0;  // 0: automatic
   std::string widths = "4,5,6,7,8";
   std::string dimension = "2";
   int threads = 0;
@@ -83,15 +94,26 @@ std::vector<double> parse_widths(const std::string& text, double W) {
   return out;
 }
 
-template <int D>
-void run(const Parameters& par, const cli::DriverApp& app) {
+// Scene parameters for width index k: the base with w and seed + k.
+template <class SceneParameters>
+SceneParameters at_width(const SceneParameters& base, double w, std::size_t k) {
+  SceneParameters p = base;
+  p.orifice = w;
+  p.seed = base.seed + k;
+  return p;
+}
+
+void validate(const hopper::HopperParameters& p, int dim) { p.validate(dim); }
+void validate(const hopper::DpHopperParameters& p, int) { p.validate(); }
+
+// Scene: HopperScene<D> (SP) or DpHopperScene (DP, D = 2); `bodies` = updates per particle-step
+// reported (1 for SP, N_v vertices per polygon for DP).
+template <class Scene, int D, class SceneParameters>
+void run(const SceneParameters& scene_base, const Parameters& par, const cli::DriverApp& app, int bodies) {
+  constexpr bool soft_particles = std::is_same_v<SceneParameters, hopper::HopperParameters>;
   const driver::OutputPaths out(app.output());
-  const auto widths = parse_widths(par.widths, par.scene.hopper_width);
-  for (const double w : widths) {  // refuse every bad width before any output
-    hopper::HopperParameters p = par.scene;
-    p.orifice = w;
-    p.validate(D);
-  }
+  const auto widths = parse_widths(par.widths, scene_base.hopper_width);
+  for (std::size_t k = 0; k < widths.size(); ++k) validate(at_width(scene_base, widths[k], k), D);  // before any output
   par.flow.validate();
   std::optional<io::H5mdWriter> h5;
   h5.emplace(out.trajectory, "mesoflow", MESOFLOW_VERSION, "mesoflow hopper");
@@ -102,15 +124,12 @@ void run(const Parameters& par, const cli::DriverApp& app) {
   const auto wall_start = std::chrono::steady_clock::now();
   long long steps = 0;
   for (std::size_t k = 0; k < widths.size(); ++k) {
-    hopper::HopperParameters p = par.scene;
-    p.orifice = widths[k];
-    p.seed = par.scene.seed + k;
-    hopper::HopperScene<D> scene(p);
+    Scene scene(at_width(scene_base, widths[k], k));
     scene.relax();
     const std::string name = "window_flow_rate_" + std::to_string(k);
     WidthMeasurement& m = measured[k];
-    const auto r = hopper::measure_flow_rate<hopper::HopperScene<D>>(
-        scene, par.flow, [&](const hopper::HopperScene<D>& s, double q, bool measuring) {
+    const auto r = hopper::measure_flow_rate<Scene>(
+        scene, par.flow, [&](const Scene& s, double q, bool measuring) {
           h5->append_observable(name, s.steps(), s.time(), q);
           if (!measuring) return;
           const auto prof = gaussian_axis_profile<profile_points>(s.particles(), 0.0, profile_dh, 1.0);
@@ -118,7 +137,7 @@ void run(const Parameters& par, const cli::DriverApp& app) {
             m.n[j] += prof.number_density[j];
             m.vg_sum[j] += prof.velocity_sum[j];
           }
-          m.orifice_count += s.orifice_region_count();
+          if constexpr (soft_particles) m.orifice_count += s.orifice_region_count();
           ++m.samples;
         });
     const std::string suffix = "_" + std::to_string(k);
@@ -131,12 +150,14 @@ void run(const Parameters& par, const cli::DriverApp& app) {
       h5->append_observable("profile_number_density" + suffix, scene.steps(), scene.time(), m.n.data(), m.n.size());
       h5->append_observable("profile_vg" + suffix, scene.steps(), scene.time(), m.vg_sum.data(), m.vg_sum.size());
     }
-    const double rho_n = m.orifice_count / scene.orifice_region_measure();
-    const double Q_corrected =
-        rho_n > 0 ? hopper::corrected_flow_rate(r.Q, rho_n, hopper::HopperScene<D>::mean_particle_measure()) : NAN;
+    double rho_n = NAN, Q_corrected = NAN;
+    if constexpr (soft_particles) {
+      rho_n = m.orifice_count / scene.orifice_region_measure();
+      if (rho_n > 0) Q_corrected = hopper::corrected_flow_rate(r.Q, rho_n, Scene::mean_particle_measure());
+      h5->set_parameter("Q_corrected" + suffix, Q_corrected);
+    }
     corrected.push_back(Q_corrected);
     densities.push_back(rho_n);
-    h5->set_parameter("Q_corrected" + suffix, Q_corrected);
     h5->set_parameter("w" + suffix, widths[k]);
     h5->set_parameter("Q" + suffix, r.Q);
     h5->set_parameter("Q_error" + suffix, r.Q_error);
@@ -184,13 +205,15 @@ void run(const Parameters& par, const cli::DriverApp& app) {
   std::optional<hopper::BeverlooFit> fit;
   if (x.size() >= 4) fit = hopper::fit_beverloo(x, Q, Qe);
   std::ofstream json(out.summary);
-  json << std::setprecision(10) << "{\n  \"driver\": \"hopper\",\n  \"dimension\": " << D << ",\n  \"results\": [";
+  json << std::setprecision(10) << "{\n  \"driver\": \"hopper\",\n  \"model\": \"" << par.model
+       << "\",\n  \"dimension\": " << D << ",\n  \"results\": [";
   for (std::size_t k = 0; k < widths.size(); ++k) {
     const auto& r = results[k];
     json << (k ? "," : "") << "\n    {\"w\": " << widths[k] << ", \"Q\": " << r.Q << ", \"Q_error\": "
          << (std::isfinite(r.Q_error) ? r.Q_error : -1.0)
          << ", \"Q_corrected\": " << (std::isfinite(corrected[k]) ? corrected[k] : -1.0)
-         << ", \"number_density_orifice\": " << densities[k] << ", \"clogged\": " << (r.clogged ? "true" : "false")
+         << ", \"number_density_orifice\": " << (std::isfinite(densities[k]) ? densities[k] : -1.0)
+         << ", \"clogged\": " << (r.clogged ? "true" : "false")
          << ", \"steady\": " << (r.steady ? "true" : "false") << ", \"steady_time\": " << r.steady_time
          << ", \"end_time\": " << r.end_time << "}";
   }
@@ -206,8 +229,8 @@ void run(const Parameters& par, const cli::DriverApp& app) {
   } else {
     json << "  \"beverloo\": null,\n";
   }
-  json << "  \"steps\": " << steps << ",\n  \"wall_seconds\": " << wall << ",\n  \"particle_steps_per_second\": "
-       << (wall > 0 ? double(steps) * par.scene.particles / wall : 0.0) << ",\n  \"kokkos\": \""
+  json << "  \"steps\": " << steps << ",\n  \"wall_seconds\": " << wall << ",\n  \"" << (soft_particles ? "particle" : "vertex") << "_steps_per_second\": "
+       << (wall > 0 ? double(steps) * scene_base.particles * bodies / wall : 0.0) << ",\n  \"kokkos\": \""
        << kokkos_configuration() << "\"\n}\n";
   json.close();
   if (!par.no_plot) {
@@ -228,22 +251,34 @@ int main(int argc, char** argv) {
   using mesoflow::cli::Bounds;
   mesoflow::Parameters par;
   auto& s = par.scene;
+  auto& d = par.dp;
   auto& f = par.flow;
   mesoflow::cli::DriverApp app(
-      "Hopper flow of bidisperse soft particles: Q(w) sweep, clogging and the Beverloo fit (hopper-flows paper; "
-      "units sigma_avg, g, rho, t0 = sqrt(sigma_avg/g))",
+      "Hopper flow of bidisperse soft particles (2D, 3D) or deformable polygons (2D): Q(w) sweep, clogging and "
+      "the Beverloo fit (hopper-flows paper; units sigma_avg, g, rho, t0 = sqrt(sigma_avg/g))",
       "hopper.h5");
   app.add_string("--widths", par.widths, "orifice widths w/σ_avg, a comma list, each in (0, W)");
-  app.add_choice("--dimension", par.dimension, "2 (disks) or 3 (spheres in a cylinder)", {"2", "3"});
+  app.add_choice("--model", par.model, "sp (soft particles, eqs. 2-7) or dp (deformable polygons, eqs. 8-13; 2D)",
+                 {"sp", "dp"});
+  app.add_choice("--dimension", par.dimension, "2 (disks) or 3 (spheres in a cylinder; sp only)", {"2", "3"});
   app.add_int("--particles", s.particles, "particles N (half small, half large)", 2, 10000000);
   app.add_real("--hopper-width", s.hopper_width, "hopper width W/σ_avg (3D: diameter)", 4.7, 1e4);
   app.add_real("--wall-angle", s.wall_angle, "exit-wall angle θ_w in degrees", 0.0, 90.0, Bounds::left_open);
-  app.add_real("--pair-energy", s.pair_energy, "pair repulsion E_sp (eq. 2)", 0.0, 1e8, Bounds::left_open);
-  app.add_real("--wall-energy", s.wall_energy, "wall repulsion E_w (eq. 3)", 0.0, 1e8, Bounds::left_open);
-  app.add_real("--drag", s.drag, "drag ζ/ζ0 (eq. 5)", 0.0, 1e4);
-  app.add_real("--friction", s.friction, "kinetic friction μ/μ0 (eq. 6)", 0.0, 1e4);
-  app.add_real("--dt", s.dt, "time step Δt/t0 (refused above the stability limit)", 0.0, 0.01, Bounds::left_open);
-  app.add_int("--seed", s.seed, "random seed of the initial placement and re-insertion", 0, 1LL << 62);
+  app.add_real("--drag", s.drag, "drag ζ/ζ0 (eq. 5; dp: eq. 11)", 0.0, 1e4);
+  app.add_real("--friction", s.friction, "kinetic friction μ/μ0 (eq. 6; dp: eq. 12, rough contacts only)", 0.0, 1e4);
+  app.add_real("--dt", par.dt, "time step Δt/t0; 0: min(1e-3, 0.9 × stability limit); larger than the limit is refused",
+               0.0, 0.01);
+  app.add_int("--seed", s.seed, "random seed of width 0 (width k uses seed + k)", 0, 1LL << 62);
+  app.add_real("--pair-energy", s.pair_energy, "sp: pair repulsion E_sp (eq. 2)", 0.0, 1e8, Bounds::left_open);
+  app.add_real("--wall-energy", s.wall_energy, "sp: wall repulsion E_w (eq. 3)", 0.0, 1e8, Bounds::left_open);
+  app.add_int("--vertices", d.vertices, "dp: vertices N_v per polygon", 8, 4096);
+  app.add_real("--area-stiffness", d.area_stiffness, "dp: area stiffness K_a (eq. 8)", 0.0, 1e10, Bounds::left_open);
+  app.add_real("--perimeter-stiffness", d.perimeter_stiffness, "dp: segment stiffness K_l (eq. 8)", 0.0, 1e10,
+               Bounds::left_open);
+  app.add_real("--bending", d.bending_stiffness, "dp: bending stiffness K_b (eq. 8)", 0.0, 1e10);
+  app.add_real("--contact-energy", d.contact_energy, "dp: vertex contact energy E_c (eq. 9)", 0.0, 1e8, Bounds::left_open);
+  app.add_real("--vertex-wall-energy", d.wall_energy, "dp: vertex-wall energy E_w (eq. 10)", 0.0, 1e8, Bounds::left_open);
+  app.add_flag("--smooth", d.smooth, "dp: nearly smooth circulo-line contacts (Appendix A) instead of vertex disks");
   app.add_real("--window", f.window, "rate window /t0", 0.0, 1e4, Bounds::left_open);
   app.add_int("--steady-windows", f.steady_windows, "windows M compared for the steady-state test", 2, 1000);
   app.add_int("--measure-windows", f.measure_windows, "windows averaged once steady", 4, 100000);
@@ -253,9 +288,23 @@ int main(int argc, char** argv) {
   app.add_flag("--no-plot", par.no_plot, "do not write the PNG plot");
   return app.run(argc, argv, [&] {
     mesoflow::KokkosScope kokkos(par.threads);
-    if (par.dimension == "2")
-      mesoflow::run<2>(par, app);
-    else
-      mesoflow::run<3>(par, app);
+    if (par.model == "dp") {
+      if (par.dimension != "2") throw std::invalid_argument("--dimension: the dp model is 2D only, got " + par.dimension);
+      d.particles = s.particles;
+      d.hopper_width = s.hopper_width;
+      d.wall_angle = s.wall_angle;
+      d.drag = s.drag;
+      d.friction = s.friction;
+      d.seed = s.seed;
+      d.dt = par.dt;
+      mesoflow::run<mesoflow::hopper::DpHopperScene<>, 2>(d, par, app, d.vertices);
+    } else {
+      const int dim = par.dimension == "2" ? 2 : 3;
+      s.dt = par.dt > 0 ? par.dt : std::min(1e-3, 0.9 * s.max_stable_dt(dim));
+      if (dim == 2)
+        mesoflow::run<mesoflow::hopper::HopperScene<2>, 2>(s, par, app, 1);
+      else
+        mesoflow::run<mesoflow::hopper::HopperScene<3>, 3>(s, par, app, 1);
+    }
   });
 }
