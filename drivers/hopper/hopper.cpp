@@ -30,6 +30,9 @@
 // <out>.csv (w, Q, Q_error, Q_corrected, number_density_orifice, clogged, steady), <out>_profile.csv
 // (w, h, n, vg_sum, vg_mean), <out>.json (results, the fit), <out>_fit.csv (the fit, when there is
 // one), <out>.png (Q(w) with the fit and the v_g(h) profiles; --no-plot skips it).
+// --vary NAME --values v1,…: one such sweep per value, each with outputs <out>_<NAME><v>.*, then
+// <out>_vary.csv (v, λ = ζ/μ, C, k, β with errors) and <out>_vary.json (the sigmoid β(λ) of eq. 14
+// when drag or friction varies and ≥ 3 fits have 0 < λ < ∞).
 #include "drivers/common/cli.hpp"
 #include "drivers/common/output_paths.hpp"
 #include "drivers/hopper/flow_measurement.hpp"
@@ -61,6 +64,8 @@ struct WidthMeasurement {
 };
 
 struct Parameters {
+  std::string vary;    // empty, or the parameter swept in an outer loop (--vary)
+  std::string values;  // its values (--values)
   hopper::HopperParameters scene;
   hopper::DpHopperParameters dp;
   hopper::FlowSettings flow;
@@ -109,9 +114,10 @@ void validate(const hopper::DpHopperParameters& p, int) { p.validate(); }
 // Scene: HopperScene<D> (SP) or DpHopperScene (DP, D = 2); `bodies` = updates per particle-step
 // reported (1 for SP, N_v vertices per polygon for DP).
 template <class Scene, int D, class SceneParameters>
-void run(const SceneParameters& scene_base, const Parameters& par, const cli::DriverApp& app, int bodies) {
+std::optional<hopper::BeverlooFit> run(const SceneParameters& scene_base, const Parameters& par,
+                                       const cli::DriverApp& app, int bodies, const std::string& output) {
   constexpr bool soft_particles = std::is_same_v<SceneParameters, hopper::HopperParameters>;
-  const driver::OutputPaths out(app.output());
+  const driver::OutputPaths out(output);
   const auto widths = parse_widths(par.widths, scene_base.hopper_width);
   for (std::size_t k = 0; k < widths.size(); ++k) validate(at_width(scene_base, widths[k], k), D);  // before any output
   par.flow.validate();
@@ -242,6 +248,91 @@ void run(const SceneParameters& scene_base, const Parameters& par, const cli::Dr
   if (!app.quiet() && fit)
     std::cout << "hopper: Beverloo fit over " << x.size() << " widths: C = " << fit->C << " ± " << fit->C_error
               << ", k = " << fit->k << " ± " << fit->k_error << ", β = " << fit->beta << " ± " << fit->beta_error << "\n";
+  return fit;
+}
+
+// The comma list of --values, each finite and > 0 (drag and friction may be 0).
+std::vector<double> parse_values(const std::string& text, bool zero_allowed) {
+  std::vector<double> out;
+  std::stringstream ss(text);
+  std::string item;
+  while (std::getline(ss, item, ',')) {
+    std::size_t used = 0;
+    double v = 0;
+    try {
+      v = std::stod(item, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used == 0 || used != item.size() || !std::isfinite(v) || v < 0 || (!zero_allowed && v == 0))
+      throw std::invalid_argument(std::string("--values: each value must be a number ") +
+                                  (zero_allowed ? ">= 0" : "> 0") + ", got '" + item + "'");
+    out.push_back(v);
+  }
+  if (out.empty()) throw std::invalid_argument("--values: at least one value with --vary, got '" + text + "'");
+  return out;
+}
+
+// Sets the --vary parameter of the scene parameters to v.
+void set_varied(Parameters& par, double v) {
+  const std::string& name = par.vary;
+  if (name == "drag") par.scene.drag = par.dp.drag = v;
+  else if (name == "friction") par.scene.friction = par.dp.friction = v;
+  else if (name == "pair-energy") par.scene.pair_energy = v;
+  else if (name == "perimeter-stiffness") par.dp.perimeter_stiffness = v;
+  else if (name == "bending") par.dp.bending_stiffness = v;
+}
+
+// One w sweep per --values entry (outputs <out>_<vary><value>.*), then <out>_vary.csv with the
+// Beverloo parameters against the value and λ = ζ/μ, and, when drag or friction is varied and at
+// least 3 sweeps have a fit with 0 < λ < ∞, the sigmoid β(λ) of eq. 14 (<out>_vary.json).
+template <class Sweep>
+void run_varied(Parameters par, const cli::DriverApp& app, int dimension, const Sweep& sweep) {
+  const bool dissipation = par.vary == "drag" || par.vary == "friction";
+  const auto values = parse_values(par.values, dissipation);
+  const driver::OutputPaths out(app.output());
+  const std::string stem = out.csv.substr(0, out.csv.size() - 4);
+  std::vector<std::optional<hopper::BeverlooFit>> fits;
+  std::vector<double> lambdas;
+  for (const double v : values) {
+    set_varied(par, v);
+    std::ostringstream name;
+    name << stem << '_' << par.vary << v << ".h5";
+    if (!app.quiet()) std::cout << "hopper: --" << par.vary << " " << v << "\n";
+    fits.push_back(sweep(par, name.str()));
+    lambdas.push_back(par.scene.friction > 0 ? par.scene.drag / par.scene.friction : HUGE_VAL);
+  }
+  std::ofstream csv(stem + "_vary.csv");
+  csv << std::setprecision(10) << par.vary << ",lambda,C,C_error,k,k_error,beta,beta_error,chi2_per_dof\n";
+  std::vector<double> x, beta, beta_error;
+  for (std::size_t j = 0; j < values.size(); ++j) {
+    csv << values[j] << ',' << lambdas[j];
+    if (const auto& f = fits[j]) {
+      csv << ',' << f->C << ',' << f->C_error << ',' << f->k << ',' << f->k_error << ',' << f->beta << ','
+          << f->beta_error << ',' << f->chi2_per_dof << '\n';
+      if (lambdas[j] > 0 && std::isfinite(lambdas[j])) {
+        x.push_back(lambdas[j]);
+        beta.push_back(f->beta);
+        beta_error.push_back(f->beta_error);
+      }
+    } else {
+      csv << ",,,,,,,\n";
+    }
+  }
+  csv.close();
+  std::ofstream json(stem + "_vary.json");
+  json << std::setprecision(10) << "{\n  \"vary\": \"" << par.vary << "\",\n  \"sigmoid\": ";
+  if (dissipation && x.size() >= 3) {
+    const auto sig = hopper::fit_beta_sigmoid(x, beta, beta_error, dimension);
+    json << "{\"lambda_c\": " << sig.lambda_c << ", \"lambda_c_error\": " << sig.lambda_c_error
+         << ", \"stretch\": " << sig.stretch << ", \"stretch_error\": " << sig.stretch_error
+         << ", \"chi2_per_dof\": " << sig.chi2_per_dof << ", \"points\": " << x.size() << "}\n}\n";
+    if (!app.quiet())
+      std::cout << "hopper: β(λ) sigmoid (eq. 14) over " << x.size() << " sweeps: λ_c = " << sig.lambda_c << " ± "
+                << sig.lambda_c_error << ", 1/b = " << sig.stretch << " ± " << sig.stretch_error << "\n";
+  } else {
+    json << "null\n}\n";
+  }
 }
 
 }  // namespace
@@ -279,6 +370,11 @@ int main(int argc, char** argv) {
   app.add_real("--contact-energy", d.contact_energy, "dp: vertex contact energy E_c (eq. 9)", 0.0, 1e8, Bounds::left_open);
   app.add_real("--vertex-wall-energy", d.wall_energy, "dp: vertex-wall energy E_w (eq. 10)", 0.0, 1e8, Bounds::left_open);
   app.add_flag("--smooth", d.smooth, "dp: nearly smooth circulo-line contacts (Appendix A) instead of vertex disks");
+  app.add_choice("--vary", par.vary,
+                 "optional outer sweep over drag, friction (λ = ζ/μ, with the sigmoid β(λ) fit of eq. 14), pair-energy "
+                 "(sp), perimeter-stiffness or bending (dp); one w sweep per --values entry",
+                 {"", "drag", "friction", "pair-energy", "perimeter-stiffness", "bending"});
+  app.add_string("--values", par.values, "the values of the --vary parameter, a comma list");
   app.add_real("--window", f.window, "rate window /t0", 0.0, 1e4, Bounds::left_open);
   app.add_int("--steady-windows", f.steady_windows, "windows M compared for the steady-state test", 2, 1000);
   app.add_int("--measure-windows", f.measure_windows, "windows averaged once steady", 4, 100000);
@@ -288,23 +384,35 @@ int main(int argc, char** argv) {
   app.add_flag("--no-plot", par.no_plot, "do not write the PNG plot");
   return app.run(argc, argv, [&] {
     mesoflow::KokkosScope kokkos(par.threads);
-    if (par.model == "dp") {
-      if (par.dimension != "2") throw std::invalid_argument("--dimension: the dp model is 2D only, got " + par.dimension);
-      d.particles = s.particles;
-      d.hopper_width = s.hopper_width;
-      d.wall_angle = s.wall_angle;
-      d.drag = s.drag;
-      d.friction = s.friction;
-      d.seed = s.seed;
-      d.dt = par.dt;
-      mesoflow::run<mesoflow::hopper::DpHopperScene<>, 2>(d, par, app, d.vertices);
-    } else {
-      const int dim = par.dimension == "2" ? 2 : 3;
-      s.dt = par.dt > 0 ? par.dt : std::min(1e-3, 0.9 * s.max_stable_dt(dim));
-      if (dim == 2)
-        mesoflow::run<mesoflow::hopper::HopperScene<2>, 2>(s, par, app, 1);
-      else
-        mesoflow::run<mesoflow::hopper::HopperScene<3>, 3>(s, par, app, 1);
-    }
+    if (par.model == "dp" && par.dimension != "2")
+      throw std::invalid_argument("--dimension: the dp model is 2D only, got " + par.dimension);
+    if (par.vary == "pair-energy" && par.model != "sp")
+      throw std::invalid_argument("--vary pair-energy: needs --model sp");
+    if ((par.vary == "perimeter-stiffness" || par.vary == "bending") && par.model != "dp")
+      throw std::invalid_argument("--vary " + par.vary + ": needs --model dp");
+    if (par.vary.empty() && !par.values.empty()) throw std::invalid_argument("--values: needs --vary");
+    const int dim = par.dimension == "2" ? 2 : 3;
+    // One w sweep with the parameters as they are in p.
+    const auto sweep = [&](const mesoflow::Parameters& p, const std::string& output) {
+      if (p.model == "dp") {
+        mesoflow::hopper::DpHopperParameters d = p.dp;
+        d.particles = p.scene.particles;
+        d.hopper_width = p.scene.hopper_width;
+        d.wall_angle = p.scene.wall_angle;
+        d.drag = p.scene.drag;
+        d.friction = p.scene.friction;
+        d.seed = p.scene.seed;
+        d.dt = p.dt;
+        return mesoflow::run<mesoflow::hopper::DpHopperScene<>, 2>(d, p, app, d.vertices, output);
+      }
+      mesoflow::hopper::HopperParameters sp = p.scene;
+      sp.dt = p.dt > 0 ? p.dt : std::min(1e-3, 0.9 * sp.max_stable_dt(dim));
+      return dim == 2 ? mesoflow::run<mesoflow::hopper::HopperScene<2>, 2>(sp, p, app, 1, output)
+                      : mesoflow::run<mesoflow::hopper::HopperScene<3>, 3>(sp, p, app, 1, output);
+    };
+    if (par.vary.empty())
+      sweep(par, app.output());
+    else
+      mesoflow::run_varied(par, app, dim, sweep);
   });
 }
