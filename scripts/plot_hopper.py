@@ -2,7 +2,8 @@
 """Plot the `hopper` driver's results (hopper-flows paper, Figs. 2 and 5):
   (a) Q(w): flowing widths with error bars, clogged widths at Q = 0 (crosses), the Beverloo fit
       Q = C(w - k)^beta (eq. 1) when given;
-  (b) with a fit, the log-log collapse log10(Q/C) against log10(w/sigma_avg - k), with slopes 1/2 and 3/2;
+  (b) with a fit, the log-log collapse log10(Q/C) against log10(w/sigma_avg - k), with the slopes d - 3/2
+      and d - 1/2 of the two limits (d read from the JSON summary beside RESULTS.csv; 2 without one);
   (c) with a profile, the mean particle speed along gravity on the hopper axis against h above the orifice.
 
 usage: plot_hopper.py RESULTS.csv OUT.png [--profile PROFILE.csv] [--fit FIT.csv]
@@ -10,6 +11,8 @@ usage: plot_hopper.py RESULTS.csv OUT.png [--profile PROFILE.csv] [--fit FIT.csv
 The second form overlays several sweeps (e.g. the friction and drag limits) in panels (a) and (b).
 """
 import csv
+import json
+import os
 import sys
 
 import matplotlib
@@ -22,6 +25,15 @@ import numpy as np  # noqa: E402
 def rows(path):
     with open(path, newline="") as f:
         return [{k: float(v) for k, v in r.items()} for r in csv.DictReader(f)]
+
+
+def dimension(results):
+    summary = os.path.splitext(results)[0] + ".json"
+    try:
+        with open(summary) as f:
+            return int(json.load(f).get("dimension", 2))
+    except (OSError, ValueError):
+        return 2
 
 
 def q_panel(ax, data, fit, label="", color=None):
@@ -50,10 +62,10 @@ def collapse_panel(ax, data, fit, color=None, label=""):
     return x
 
 
-def slopes(ax, xs):
+def slopes(ax, xs, d):
     x = np.linspace(min(xs) - 0.1, max(xs) + 0.1, 10)
-    ax.plot(x, 0.5 * x, ":", color="gray", label="slope 1/2")
-    ax.plot(x, 1.5 * x, "--", color="gray", label="slope 3/2")
+    ax.plot(x, (d - 1.5) * x, ":", color="gray", label=f"slope {2 * d - 3}/2")
+    ax.plot(x, (d - 0.5) * x, "--", color="gray", label=f"slope {2 * d - 1}/2")
     ax.set_xlabel("log10(w/σ_avg − k)")
     ax.set_ylabel("log10(Q/C)")
     ax.legend(fontsize=7)
@@ -71,7 +83,7 @@ def single(argv):
     q_panel(axes[0], data, fit)
     k = 1
     if fit:
-        slopes(axes[1], collapse_panel(axes[1], data, fit))
+        slopes(axes[1], collapse_panel(axes[1], data, fit), dimension(results))
         k = 2
     if profile:
         for w in sorted({r["w"] for r in profile}):
@@ -94,7 +106,7 @@ def compare(argv):
         data, fit = rows(results), rows(fitfile)[0]
         color = q_panel(axes[0], data, fit, label)
         xs.extend(collapse_panel(axes[1], data, fit, color, label))
-    slopes(axes[1], xs)
+    slopes(axes[1], xs, dimension(rest[1]))
     fig.tight_layout()
     fig.savefig(out, dpi=120)
 
