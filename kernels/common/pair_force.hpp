@@ -57,22 +57,35 @@ class PairForce {
         Kokkos::RangePolicy<ExecSpace, Kokkos::Schedule<Kokkos::Dynamic>>(0, p.size()).set_chunk_size(64),
         KOKKOS_LAMBDA(int row) {
           const int i = nbr.particle(row);
-          const Vec<D, Real> xi = Vec<D, Real>::load(x, i);
-          const int ti = type(i);
-          Vec<D, Real> fi = Vec<D, Real>::zero();
-          const int nn = nbr.num_neighbors(row);
-          for (int k = 0; k < nn; ++k) {
-            const int j = nbr.neighbor(row, k);
-            Vec<D, Real> dr = xi - Vec<D, Real>::load(x, j);
-            box.minimum_image(dr);
-            Real force_over_r, e;
-            if (eval.evaluate(norm2(dr), ti, type(j), force_over_r, e)) fi += force_over_r * dr;
-          }
+          double unused = 0;
+          const Vec<D, Real> fi = full_row_force(eval, nbr, x, type, box, row, i, unused);
           for (int d = 0; d < D; ++d) f(i, d) += fi[d];
         });
   }
 
  private:
+  // Σ_j F_ij over row `row` (particle i) of a full list, in list order; adds the pair energies to e_sum.
+  template <class Evaluator, class Neighbors, class Positions, class Types>
+  KOKKOS_INLINE_FUNCTION static Vec<D, Real> full_row_force(const Evaluator& eval, const Neighbors& nbr,
+                                                            const Positions& x, const Types& type,
+                                                            const Box<D, Real>& box, int row, int i, double& e_sum) {
+    const Vec<D, Real> xi = Vec<D, Real>::load(x, i);
+    const int ti = type(i);
+    Vec<D, Real> fi = Vec<D, Real>::zero();
+    const int nn = nbr.num_neighbors(row);
+    for (int k = 0; k < nn; ++k) {
+      const int j = nbr.neighbor(row, k);
+      Vec<D, Real> dr = xi - Vec<D, Real>::load(x, j);
+      box.minimum_image(dr);
+      Real force_over_r, e;
+      if (eval.evaluate(norm2(dr), ti, type(j), force_over_r, e)) {
+        fi += force_over_r * dr;
+        e_sum += e;
+      }
+    }
+    return fi;
+  }
+
   template <class Evaluator>
   double accumulate_full(const Evaluator& eval, const Particles<D, Real, ExecSpace>& p,
                          const NeighborList<D, Real, ExecSpace>& list, const Box<D, Real>& box) {
@@ -85,21 +98,8 @@ class PairForce {
         "mesoflow::pair_force::full", Kokkos::RangePolicy<ExecSpace>(0, p.size()),
         KOKKOS_LAMBDA(int row, double& e_acc) {
           const int i = nbr.particle(row);
-          const Vec<D, Real> xi = Vec<D, Real>::load(x, i);
-          const int ti = type(i);
-          Vec<D, Real> fi = Vec<D, Real>::zero();
           double ei = 0;
-          const int nn = nbr.num_neighbors(row);
-          for (int k = 0; k < nn; ++k) {
-            const int j = nbr.neighbor(row, k);
-            Vec<D, Real> dr = xi - Vec<D, Real>::load(x, j);
-            box.minimum_image(dr);
-            Real force_over_r, e;
-            if (eval.evaluate(norm2(dr), ti, type(j), force_over_r, e)) {
-              fi += force_over_r * dr;
-              ei += e;
-            }
-          }
+          const Vec<D, Real> fi = full_row_force(eval, nbr, x, type, box, row, i, ei);
           for (int d = 0; d < D; ++d) f(i, d) += fi[d];
           e_acc += 0.5 * ei;
         },
