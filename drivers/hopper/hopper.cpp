@@ -77,26 +77,34 @@ struct Parameters {
   bool no_plot = false;
 };
 
-// The comma list of --widths, each in (0, W).
-std::vector<double> parse_widths(const std::string& text, double W) {
+// The comma list `text` of option `flag`: each item a whole number that `accept` takes (else an
+// error naming the option, the item and `range`), at least one.
+template <class Accept>
+std::vector<double> parse_number_list(const std::string& text, const std::string& flag, const Accept& accept,
+                                      const std::string& range) {
   std::vector<double> out;
   std::stringstream ss(text);
   std::string item;
   while (std::getline(ss, item, ',')) {
     std::size_t used = 0;
-    double w = 0;
+    double v = 0;
     try {
-      w = std::stod(item, &used);
+      v = std::stod(item, &used);
     } catch (const std::exception&) {
       used = 0;
     }
-    if (used == 0 || used != item.size() || !std::isfinite(w) || !(w > 0 && w < W))
-      throw std::invalid_argument("--widths: each width must be a number in (0, W = " + std::to_string(W) +
-                                  "), got '" + item + "'");
-    out.push_back(w);
+    if (used == 0 || used != item.size() || !std::isfinite(v) || !accept(v))
+      throw std::invalid_argument(flag + ": each value must be a number " + range + ", got '" + item + "'");
+    out.push_back(v);
   }
-  if (out.empty()) throw std::invalid_argument("--widths: at least one width, got '" + text + "'");
+  if (out.empty()) throw std::invalid_argument(flag + ": at least one value, got '" + text + "'");
   return out;
+}
+
+// --widths: each in (0, W).
+std::vector<double> parse_widths(const std::string& text, double W) {
+  return parse_number_list(
+      text, "--widths", [W](double w) { return w > 0 && w < W; }, "in (0, W = " + std::to_string(W) + ")");
 }
 
 // Scene parameters for width index k: the base with w and seed + k.
@@ -251,26 +259,11 @@ std::optional<hopper::BeverlooFit> run(const SceneParameters& scene_base, const 
   return fit;
 }
 
-// The comma list of --values, each finite and > 0 (drag and friction may be 0).
+// --values: each > 0 (drag and friction may be 0).
 std::vector<double> parse_values(const std::string& text, bool zero_allowed) {
-  std::vector<double> out;
-  std::stringstream ss(text);
-  std::string item;
-  while (std::getline(ss, item, ',')) {
-    std::size_t used = 0;
-    double v = 0;
-    try {
-      v = std::stod(item, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used == 0 || used != item.size() || !std::isfinite(v) || v < 0 || (!zero_allowed && v == 0))
-      throw std::invalid_argument(std::string("--values: each value must be a number ") +
-                                  (zero_allowed ? ">= 0" : "> 0") + ", got '" + item + "'");
-    out.push_back(v);
-  }
-  if (out.empty()) throw std::invalid_argument("--values: at least one value with --vary, got '" + text + "'");
-  return out;
+  return parse_number_list(
+      text, "--values", [zero_allowed](double v) { return zero_allowed ? v >= 0 : v > 0; },
+      zero_allowed ? ">= 0" : "> 0");
 }
 
 // Sets the --vary parameter of the scene parameters to v.
