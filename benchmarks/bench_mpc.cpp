@@ -1,0 +1,150 @@
+// bench_mpc.cpp — the MPC solvent in a periodic box (issue 5, item 6). items_per_second =
+// particle-updates/s (particles × steps); one step is streaming (eq. B.1) + grid shift + binning +
+// collision, as MpcCollision::stream_and_collide runs it.
+//   BM_MpcStep<2, Real, at+a>/600000/40/25: the paper's solvent, MPC-AT+a (eq. B.2) at 40 particles
+//     per cell (target 2·10⁷/s in double at 2 threads).
+//   BM_MpcStep<3, Real, srd>/1000000/10/25: SRD at 10 particles per cell (target 5·10⁷/s).
+//   BM_MpcStepSeparate: the same step as three calls (stream, shift_grid, collide), to show what
+//     the fused streaming saves.
+//   BM_MpcReferenceTriad: x ← x + h v over 10⁶ 3D double particles (48 bytes per particle), the
+//     memory-bandwidth scale of the machine for these array sizes.
+// Particles start at uniformly random positions in random memory order; the third argument sorts
+// them by cell every so many steps (0: never).
+#include <benchmark/benchmark.h>
+
+#include "kernels/common/random.hpp"
+#include "kernels/mpc/maxwell_boltzmann.hpp"
+#include "kernels/mpc/mpc_collision.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <string>
+
+namespace mesoflow {
+namespace {
+
+using Exec = Kokkos::DefaultExecutionSpace;
+using mpc::CollisionRule;
+
+template <int D, class Real>
+struct MpcBox {
+  using vector_view = typename mpc::MpcCollision<D, Real, Exec>::vector_view;
+  mpc::CollisionGrid<D, Real> grid;
+  vector_view x, v;
+};
+
+// A periodic box of about n / per_cell unit cells (the first axis adjusted to fit), k_BT = m = 1.
+template <int D, class Real>
+MpcBox<D, Real> make_box(int n, int per_cell) {
+  const int cells = n / per_cell;
+  const int side = int(std::floor(std::pow(double(cells), 1.0 / D)));
+  Kokkos::Array<int, D> count;
+  Kokkos::Array<Real, D> lo, length;
+  Kokkos::Array<int, D> periodic;
+  int rest = cells;
+  for (int d = D - 1; d >= 1; --d) {
+    count[d] = side;
+    rest /= side;
+  }
+  count[0] = rest;
+  for (int d = 0; d < D; ++d) {
+    lo[d] = Real(0);
+    length[d] = Real(count[d]);
+    periodic[d] = 1;
+  }
+  MpcBox<D, Real> box{mpc::make_collision_grid<D, Real>(Real(1), lo, length, periodic),
+                      typename MpcBox<D, Real>::vector_view("mesoflow::bench::x", n),
+                      typename MpcBox<D, Real>::vector_view("mesoflow::bench::v", n)};
+  Real low[D], high[D];
+  for (int d = 0; d < D; ++d) {
+    low[d] = Real(0);
+    high[d] = length[d];
+  }
+  fill_uniform_counter(box.x, low, high, 1);
+  mpc::fill_maxwell_boltzmann(box.v, Real(1), Real(1), 1);
+  return box;
+}
+
+template <class Body>
+void timed(benchmark::State& state, Body&& body) {
+  for (auto _ : state) {
+    Kokkos::fence();
+    const auto t0 = std::chrono::steady_clock::now();
+    body();
+    Kokkos::fence();
+    state.SetIterationTime(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+  }
+}
+
+// Arguments: particles, particles per cell, sort interval (MpcCollision::sort_by_cell every that
+// many steps, its cost included; 0: never, the particles stay in random memory order).
+template <int D, class Real, CollisionRule Rule, bool Fused>
+void mpc_step(benchmark::State& state) {
+  const int n = int(state.range(0)), per_cell = int(state.range(1)), sort_every = int(state.range(2));
+  auto box = make_box<D, Real>(n, per_cell);
+  mpc::CollisionParameters<Real> p;
+  p.rule = Rule;
+  mpc::MpcCollision<D, Real, Exec> collision(box.grid, p, std::size_t(n));
+  Kokkos::Array<Real, D> g;
+  for (int d = 0; d < D; ++d) g[d] = Real(0);
+  g[0] = Real(0.001);
+  const Real h = Real(0.1);
+  const int steps = 25;
+  std::uint64_t step = 0;
+  auto one_step = [&] {
+    if constexpr (Fused) {
+      collision.stream_and_collide(box.x, box.v, h, g, step);
+    } else {
+      mpc::stream(box.x, box.v, h, g, collision.grid());
+      collision.shift_grid(step);
+      collision.collide(box.x, box.v, step);
+    }
+    ++step;
+    if (sort_every > 0 && step % sort_every == 0) collision.sort_by_cell(box.x, box.v);
+  };
+  for (int s = 0; s < steps; ++s) one_step();  // warm-up (and the first sort)
+  timed(state, [&] {
+    for (int s = 0; s < steps; ++s) one_step();
+  });
+  state.SetItemsProcessed(state.iterations() * std::int64_t(steps) * n);
+  state.counters["cells"] = double(box.grid.num_cells());
+}
+
+template <int D, class Real, CollisionRule Rule>
+void BM_MpcStep(benchmark::State& state) {
+  mpc_step<D, Real, Rule, true>(state);
+}
+
+template <int D, class Real, CollisionRule Rule>
+void BM_MpcStepSeparate(benchmark::State& state) {
+  mpc_step<D, Real, Rule, false>(state);
+}
+
+void BM_MpcReferenceTriad(benchmark::State& state) {
+  const int n = int(state.range(0));
+  Kokkos::View<double* [3], Kokkos::LayoutLeft, Exec> x("mesoflow::bench::x", n), v("mesoflow::bench::v", n);
+  timed(state, [&] {
+    Kokkos::parallel_for(
+        "mesoflow::bench::mpc_reference_triad", Kokkos::RangePolicy<Exec>(0, n), KOKKOS_LAMBDA(int i) {
+          for (int d = 0; d < 3; ++d) x(i, d) += 1e-3 * v(i, d);
+        });
+  });
+  state.SetItemsProcessed(state.iterations() * n);
+}
+
+constexpr auto srd = CollisionRule::srd;
+constexpr auto at_plus_a = CollisionRule::at_plus_a;
+constexpr auto at_minus_a = CollisionRule::at_minus_a;
+
+BENCHMARK(BM_MpcReferenceTriad)->Arg(1000000)->UseManualTime()->Unit(benchmark::kMillisecond);
+BENCHMARK_TEMPLATE(BM_MpcStep, 2, double, at_plus_a)->Args({600000, 40, 25})->Args({600000, 40, 0})->UseManualTime()->Unit(benchmark::kMillisecond);
+BENCHMARK_TEMPLATE(BM_MpcStep, 2, float, at_plus_a)->Args({600000, 40, 25})->Args({600000, 40, 0})->UseManualTime()->Unit(benchmark::kMillisecond);
+BENCHMARK_TEMPLATE(BM_MpcStep, 3, double, srd)->Args({1000000, 10, 25})->Args({1000000, 10, 0})->UseManualTime()->Unit(benchmark::kMillisecond);
+BENCHMARK_TEMPLATE(BM_MpcStep, 3, float, srd)->Args({1000000, 10, 25})->Args({1000000, 10, 0})->UseManualTime()->Unit(benchmark::kMillisecond);
+BENCHMARK_TEMPLATE(BM_MpcStep, 2, double, at_minus_a)->Args({600000, 40, 25})->UseManualTime()->Unit(benchmark::kMillisecond);
+BENCHMARK_TEMPLATE(BM_MpcStep, 3, double, at_plus_a)->Args({1000000, 10, 25})->UseManualTime()->Unit(benchmark::kMillisecond);
+BENCHMARK_TEMPLATE(BM_MpcStepSeparate, 2, double, at_plus_a)->Args({600000, 40, 25})->UseManualTime()->Unit(benchmark::kMillisecond);
+BENCHMARK_TEMPLATE(BM_MpcStepSeparate, 3, double, srd)->Args({1000000, 10, 25})->UseManualTime()->Unit(benchmark::kMillisecond);
+
+}  // namespace
+}  // namespace mesoflow

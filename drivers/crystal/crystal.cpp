@@ -1,0 +1,356 @@
+// crystal — a one-dimensional microfluidic crystal of flattened droplets (rigid discs) carried by
+// an MPC-AT+a solvent through a 2D channel, and its phonons (mpc-microfluidic-crystal-phonons
+// paper, §4 and Appendix B). Every run also measures the velocity ratio K = u_d/u_oil, so the
+// single-droplet calibration run of Appendix B is `crystal --discs 1 --length 150`.
+//
+// Units (Appendix B): cell size Δx, solvent particle mass m, k_BT; time τ = Δx √(m/k_BT). The
+// defaults are the paper's scene: R = 5Δx, h = 0.005τ, n = 40 particles per cell (ρ = 40 m/Δx²),
+// g = 0.1 (body acceleration of the solvent, Δx/τ²), γ = 2·10⁴ m/τ (plate friction −γ u_d),
+// channel L × W = 1000Δx × 15Δx with walls at y = 0 and y = W, 90 discs (spacing a = L/N), WCA
+// ε = k_BT, r0 = Δx (eq. B.4), disc mass M = ρπR², zigzag (triangle wave) of six discs per
+// wavelength. η of eq. (B.3) for these values: 321.77 m/τ.
+//
+// Output (<out> = --output without its extension): <out>.h5 (H5MD: disc positions, unwrapped
+// along x, and velocities every --frame-interval; observables u_oil (mean solvent velocity), u_d
+// (mean disc velocity); parameters as attributes), <out>.xdmf, <out>.csv (the observables),
+// <out>.json (K, u_d, u_oil, Re, Pe, B, β, v_p, speed), and for two or more discs
+// <out>_phonons.h5 (power spectra of eqs. 1-2, theory curves of eqs. 3, 4, 8, 11-14, correlation
+// eq. 5; drivers/crystal/phonon_spectra.hpp), <out>_theory.csv and <out>_phonons.png
+// (scripts/plot_crystal.py). Frames before --warmup are written but left out of K and the spectra.
+// <out>.ckpt.h5 is replaced atomically every --checkpoint-interval; --restart continues from it.
+#include "drivers/common/cli.hpp"
+#include "drivers/common/output_paths.hpp"
+#include "drivers/common/particle_io.hpp"
+#include "drivers/common/progress.hpp"
+#include "drivers/crystal/dispersion_theory.hpp"
+#include "drivers/crystal/phonon_spectra.hpp"
+#include "kernels/io/checkpoint.hpp"
+#include "kernels/io/h5md_writer.hpp"
+#include "kernels/mpc/channel_flow.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <optional>
+#include <sstream>
+
+namespace mesoflow {
+namespace {
+
+struct Parameters {
+  mpc::ChannelFlowParameters<double> flow;
+  std::string rule = "at+a";
+  long long discs = 90;
+  long long wavelength = 6;  // discs per zigzag period
+  double amplitude = -1;     // zigzag amplitude /Δx; < 0: the largest without wall contact
+  double warmup = 0;         // τ before the measured frames
+  double time = 100;         // τ measured
+  double frame_interval = 1; // τ between frames
+  double checkpoint_interval = 500;  // τ between checkpoints
+  double calibrated_ratio = 0;  // K of a single-disc run for the theory curves; 0: this run's u_d/u_oil
+  long long seed = 1;
+  std::string precision = "double";
+  int threads = 0;
+  bool restart = false;
+  bool no_plot = false;
+};
+
+// η of eq. (B.3) (MPC-AT+a, d = 2, large n).
+double viscosity_b3(const mpc::ChannelFlowParameters<double>& p) {
+  const double n = p.density, a = p.cell_size, h = p.h, d = 2;
+  return n * p.kT * h / std::pow(a, d) * (n / (n - (d + 2) / 4) - 0.5) + p.mass * (n - 1.4) / (24 * std::pow(a, d - 2) * h);
+}
+
+// Disc centres: spacing a = L/N along x, y on a triangle wave of `wavelength` discs about W/2,
+// starting on the axis (a single disc sits on the axis, as in the paper's calibration of K).
+std::vector<std::array<double, 2>> zigzag(const Parameters& par) {
+  const auto& f = par.flow;
+  const double spacing = f.length / double(par.discs);
+  const double largest = 0.5 * f.width - f.disc_radius - std::pow(2.0, 1.0 / 6.0) * f.wca_r0;
+  const double amplitude = par.amplitude < 0 ? std::max(0.0, largest) : par.amplitude;
+  if (par.discs > 1 && spacing < 2 * f.disc_radius)
+    throw std::invalid_argument("--discs " + std::to_string(par.discs) + ": spacing L/N = " + std::to_string(spacing) +
+                          " is below the disc diameter 2R = " + std::to_string(2 * f.disc_radius));
+  if (amplitude > 0.5 * f.width - f.disc_radius)
+    throw std::invalid_argument("--amplitude " + std::to_string(amplitude) + ": must be at most W/2 - R = " +
+                          std::to_string(0.5 * f.width - f.disc_radius));
+  std::vector<std::array<double, 2>> centres(std::size_t(par.discs));
+  for (long long j = 0; j < par.discs; ++j) {
+    const double s = double(j % par.wavelength) / double(par.wavelength);
+    const double triangle = 1 - 4 * std::abs(s - 0.25 - std::floor(s + 0.25));  // 0 at s = 0, ±1 at s = 1/4, 3/4
+    centres[std::size_t(j)] = {(double(j) + 0.5) * spacing, 0.5 * f.width + amplitude * triangle};
+  }
+  return centres;
+}
+
+// The parameters a restart must share with the run it continues (all but the run length,
+// output and threads), as a string stored in the checkpoint.
+std::string scene_signature(const Parameters& par) {
+  const auto& f = par.flow;
+  std::ostringstream s;
+  s << std::setprecision(17) << "L=" << f.length << " W=" << f.width << " R=" << f.disc_radius << " n=" << f.density
+    << " h=" << f.h << " g=" << f.body_acceleration << " gamma=" << f.friction << " eps=" << f.wca_epsilon
+    << " r0=" << f.wca_r0 << " rule=" << par.rule << " N=" << par.discs << " wavelength=" << par.wavelength
+    << " amplitude=" << par.amplitude << " warmup=" << par.warmup << " frame=" << par.frame_interval
+    << " seed=" << par.seed << " precision=" << par.precision;
+  return s.str();
+}
+
+// Recorded frames, kept in memory (and in the checkpoint) for the analysis at the end.
+struct Record {
+  std::vector<std::int64_t> steps;
+  std::vector<double> x, y;          // unwrapped centres, frame-major
+  std::vector<double> u_d, u_oil;    // per frame
+};
+
+template <class Real>
+void run(const Parameters& par, const cli::DriverApp& app) {
+  using Exec = Kokkos::DefaultExecutionSpace;
+  const driver::OutputPaths out(app.output());
+  const std::string base = out.csv.substr(0, out.csv.size() - 4);
+  mpc::ChannelFlowParameters<Real> fp;
+  const auto& f = par.flow;
+  fp.length = Real(f.length);
+  fp.width = Real(f.width);
+  fp.walls = true;
+  fp.cell_size = Real(f.cell_size);
+  fp.density = Real(f.density);
+  fp.kT = Real(f.kT);
+  fp.mass = Real(f.mass);
+  fp.h = Real(f.h);
+  fp.rule = mpc::parse_collision_rule(par.rule);
+  fp.body_acceleration = Real(f.body_acceleration);
+  fp.disc_radius = Real(f.disc_radius);
+  fp.friction = Real(f.friction);
+  fp.wca_epsilon = Real(f.wca_epsilon);
+  fp.wca_r0 = Real(f.wca_r0);
+  fp.seed = std::uint64_t(par.seed);
+  if (std::abs(f.length / f.cell_size - std::round(f.length / f.cell_size)) > 1e-9)
+    throw std::invalid_argument("--length " + std::to_string(f.length) + ": must be a multiple of the cell size");
+  const auto centres_d = zigzag(par);
+  std::vector<std::array<Real, 2>> centres;
+  for (const auto& c : centres_d) centres.push_back({Real(c[0]), Real(c[1])});
+  mpc::ChannelFlow<Real, Exec> flow(fp, centres);
+  const std::size_t nd = centres.size();
+
+  const auto steps_of = [&](double t) { return std::int64_t(std::llround(t / f.h)); };
+  const std::int64_t warmup_steps = steps_of(par.warmup);
+  const std::int64_t total_steps = warmup_steps + steps_of(par.time);
+  const std::int64_t frame_steps = std::max<std::int64_t>(1, steps_of(par.frame_interval));
+  const std::int64_t checkpoint_steps = std::max<std::int64_t>(1, steps_of(par.checkpoint_interval));
+
+  Record rec;
+  std::vector<double> last_folded(nd), image_shift(nd, 0.0);
+  std::optional<io::H5mdWriter> h5;
+  if (par.restart) {
+    io::CheckpointReader ck(out.checkpoint);
+    const std::string stored = ck.get_string("scene");
+    if (stored != scene_signature(par))
+      throw std::invalid_argument("--restart: " + out.checkpoint + " was written by another scene (" + stored +
+                                  "); only --time, --checkpoint-interval, --threads and --no-plot may change");
+    std::vector<Real> xs, vs, dx, du, dw;
+    ck.get("solvent/x", xs);
+    ck.get("solvent/v", vs);
+    ck.get("discs/x", dx);
+    ck.get("discs/u", du);
+    ck.get("discs/omega", dw);
+    if (xs.size() != 2 * flow.num_solvent() || dx.size() != 2 * nd)
+      throw std::runtime_error(out.checkpoint + ": written for another scene (" + std::to_string(xs.size() / 2) +
+                               " solvent particles, " + std::to_string(dx.size() / 2) + " discs)");
+    driver::from_row_major(flow.positions(), xs);
+    driver::from_row_major(flow.velocities(), vs);
+    driver::from_row_major(flow.discs().x, dx);
+    driver::from_row_major(flow.discs().u, du);
+    driver::from_host_vector(flow.discs().omega, dw);
+    ck.get("record/steps", rec.steps);
+    ck.get("record/x", rec.x);
+    ck.get("record/y", rec.y);
+    ck.get("record/u_d", rec.u_d);
+    ck.get("record/u_oil", rec.u_oil);
+    ck.get("record/last_folded", last_folded);
+    ck.get("record/image_shift", image_shift);
+    const std::int64_t step = ck.get_scalar_int64("step");
+    flow.restore(std::uint64_t(step));
+    h5.emplace(io::H5mdWriter::resume(out.trajectory, step));
+    if (!app.quiet()) std::cerr << "crystal: resumed from " << out.checkpoint << " at step " << step << "\n";
+  } else {
+    h5.emplace(out.trajectory, "mesoflow", MESOFLOW_VERSION, "mesoflow crystal");
+    for (const auto& [key, value] : app.resolved_parameters()) h5->set_parameter(key, value);
+    h5->set_parameter("solvent_particles", flow.num_solvent());
+    h5->set_parameter("disc_mass", double(flow.discs().mass()));
+    h5->set_parameter("viscosity_b3", viscosity_b3(f));
+    h5->add_particles_group("discs", 2, nd, {0.0, 0.0}, {f.length, f.width}, {true, false});
+    for (std::size_t k = 0; k < nd; ++k) last_folded[k] = centres_d[k][0];
+  }
+
+  const auto record = [&] {
+    const auto X = driver::to_row_major(flow.discs().x);
+    const auto U = driver::to_row_major(flow.discs().u);
+    const std::int64_t step = std::int64_t(flow.steps_done());
+    const double t = flow.time();
+    std::vector<double> pos(2 * nd), vel(2 * nd);
+    double ud = 0;
+    for (std::size_t k = 0; k < nd; ++k) {
+      const double xf = double(X[2 * k]);
+      double jump = xf - last_folded[k];  // a disc moves far less than L/2 between frames
+      image_shift[k] -= f.length * std::round(jump / f.length);
+      last_folded[k] = xf;
+      pos[2 * k] = xf + image_shift[k];
+      pos[2 * k + 1] = double(X[2 * k + 1]);
+      vel[2 * k] = double(U[2 * k]);
+      vel[2 * k + 1] = double(U[2 * k + 1]);
+      ud += vel[2 * k] / double(nd);
+    }
+    const double uoil = flow.solvent_momentum()[0] / (f.mass * double(flow.num_solvent()));
+    h5->append("discs", "position", step, t, pos.data(), nd, 2);
+    h5->append("discs", "velocity", step, t, vel.data(), nd, 2);
+    h5->append_observable("u_oil", step, t, uoil);
+    h5->append_observable("u_d", step, t, ud);
+    rec.steps.push_back(step);
+    for (std::size_t k = 0; k < nd; ++k) {
+      rec.x.push_back(pos[2 * k]);
+      rec.y.push_back(pos[2 * k + 1]);
+    }
+    rec.u_d.push_back(ud);
+    rec.u_oil.push_back(uoil);
+  };
+  const auto checkpoint = [&] {
+    h5->flush();
+    io::CheckpointWriter ck(out.checkpoint);
+    const auto put = [&](const std::string& name, const auto& data, std::size_t cols) {
+      ck.put(name, data.data(), cols ? std::vector<std::size_t>{data.size() / cols, cols}
+                                     : std::vector<std::size_t>{data.size()});
+    };
+    put("solvent/x", driver::to_row_major(flow.positions()), 2);
+    put("solvent/v", driver::to_row_major(flow.velocities()), 2);
+    put("discs/x", driver::to_row_major(flow.discs().x), 2);
+    put("discs/u", driver::to_row_major(flow.discs().u), 2);
+    put("discs/omega", driver::to_host_vector(flow.discs().omega), 0);
+    put("record/steps", rec.steps, 0);
+    put("record/x", rec.x, 0);
+    put("record/y", rec.y, 0);
+    put("record/u_d", rec.u_d, 0);
+    put("record/u_oil", rec.u_oil, 0);
+    put("record/last_folded", last_folded, 0);
+    put("record/image_shift", image_shift, 0);
+    ck.put_scalar("step", std::int64_t(flow.steps_done()));
+    ck.put_string("scene", scene_signature(par));
+    ck.commit();
+  };
+  if (!par.restart) record();
+
+  const std::int64_t first = std::int64_t(flow.steps_done());
+  cli::ProgressLine progress(total_steps - first, std::int64_t(flow.num_solvent()), !app.quiet());
+  const auto wall_start = std::chrono::steady_clock::now();
+  while (std::int64_t(flow.steps_done()) < total_steps) {
+    flow.step();
+    const std::int64_t step = std::int64_t(flow.steps_done());
+    if (step % frame_steps == 0 || step == total_steps) record();
+    if (step % checkpoint_steps == 0 || step == total_steps) checkpoint();
+    progress.update(step - first);
+  }
+  progress.finish();
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+  h5->write_xdmf(out.xdmf);
+  h5.reset();
+  driver::write_observables_csv(out.trajectory, out.csv, {"u_oil", "u_d"});
+
+  // Measured frames: step >= warmup (the frame at the warmup step included).
+  std::size_t first_frame = 0;
+  while (first_frame < rec.steps.size() && rec.steps[first_frame] < warmup_steps) ++first_frame;
+  const std::size_t frames = rec.steps.size() - first_frame;
+  if (frames < 2) throw std::runtime_error("crystal: fewer than two measured frames; raise --time or lower --frame-interval");
+  double ud = 0, uoil = 0;
+  for (std::size_t t = first_frame; t < rec.steps.size(); ++t) {
+    ud += rec.u_d[t] / double(frames);
+    uoil += rec.u_oil[t] / double(frames);
+  }
+  const double K = ud / uoil;
+  const double eta = viscosity_b3(f);
+  const double rho = f.density * f.mass / (f.cell_size * f.cell_size);
+  const double reynolds = rho * uoil * f.disc_radius / eta;
+  const double peclet = uoil * f.disc_radius * f.friction / f.kT;  // D = k_BT/γ (plate friction dominates)
+
+  std::ofstream json(out.summary);
+  json << std::setprecision(8) << "{\n  \"driver\": \"crystal\",\n  \"discs\": " << nd
+       << ",\n  \"solvent_particles\": " << flow.num_solvent() << ",\n  \"measured_frames\": " << frames
+       << ",\n  \"u_d\": " << ud << ",\n  \"u_oil\": " << uoil << ",\n  \"K\": " << K
+       << ",\n  \"viscosity_b3\": " << eta << ",\n  \"reynolds\": " << reynolds << ",\n  \"peclet\": " << peclet;
+  if (nd >= 2) {
+    const double spacing = f.length / double(nd);
+    std::vector<double> x(rec.x.begin() + std::ptrdiff_t(first_frame * nd), rec.x.end());
+    std::vector<double> y(rec.y.begin() + std::ptrdiff_t(first_frame * nd), rec.y.end());
+    // Appendix B: the theory takes K from an independent single-disc run when one is given, with
+    // this run's droplet velocity: u_oil = u_d/K.
+    const double theory_uoil = par.calibrated_ratio > 0 ? ud / par.calibrated_ratio : uoil;
+    const crystal::CrystalParameters cp{spacing, f.width, f.disc_radius, ud, theory_uoil};
+    const auto el = crystal::elongations(x, y, nd, frames, spacing, 0.5 * f.width);
+    const double dt_frame = double(frame_steps) * f.h;
+    const auto spectra = crystal::power_spectra(el, spacing, dt_frame);
+    const auto corr = crystal::mode_correlation(el, spacing);
+    crystal::write_phonon_analysis(base + "_phonons.h5", cp, spectra, corr);
+    const crystal::DispersionTheory theory(cp);
+    crystal::write_theory_csv(base + "_theory.csv", theory);
+    json << ",\n  \"theory_K\": " << ud / theory_uoil << ",\n  \"spacing\": " << spacing << ",\n  \"B\": " << theory.B() << ",\n  \"beta\": " << theory.beta()
+         << ",\n  \"phase_velocity\": " << theory.phase_velocity() << ",\n  \"frame_interval\": " << dt_frame;
+    if (!par.no_plot) {
+      const std::string png = base + "_phonons.png";
+      driver::plot_with_matplotlib("crystal", "plot_crystal.py", {base + "_phonons.h5", png}, png, app.quiet());
+    }
+  }
+  json << ",\n  \"steps_run\": " << total_steps - first << ",\n  \"wall_seconds\": " << wall
+       << ",\n  \"steps_per_second\": " << (wall > 0 ? double(total_steps - first) / wall : 0.0)
+       << ",\n  \"kokkos\": \"" << kokkos_configuration() << "\"\n}\n";
+  if (!app.quiet())
+    std::cout << "crystal: " << nd << " discs, " << flow.num_solvent() << " solvent particles, " << frames
+              << " measured frames; u_d = " << ud << ", u_oil = " << uoil << " Δx/τ, K = " << K << ", Re = " << reynolds
+              << "; " << total_steps - first << " steps in " << wall << " s\n";
+}
+
+}  // namespace
+}  // namespace mesoflow
+
+int main(int argc, char** argv) {
+  using mesoflow::cli::Bounds;
+  mesoflow::Parameters par;
+  auto& f = par.flow;
+  mesoflow::cli::DriverApp app(
+      "A 1D microfluidic crystal of rigid discs in an MPC-AT+a channel flow, its phonon spectra and K = u_d/u_oil "
+      "(mpc-microfluidic-crystal-phonons paper, Appendix B; units: cell size Δx, particle mass m, k_BT, "
+      "tau = Δx sqrt(m/k_BT))",
+      "crystal.h5");
+  app.add_real("--length", f.length, "channel length L/Δx (periodic, a multiple of Δx)", 0.0, 1e6, Bounds::left_open);
+  app.add_real("--width", f.width, "channel width W/Δx (walls at y = 0 and W)", 0.0, 1e5, Bounds::left_open);
+  app.add_real("--radius", f.disc_radius, "disc radius R/Δx", 0.0, 1e4, Bounds::left_open);
+  app.add_real("--density", f.density, "solvent particles per cell n", 0.0, 1e4, Bounds::left_open);
+  app.add_real("--dt", f.h, "MPC time step h/τ", 0.0, 10.0, Bounds::left_open);
+  app.add_real("--body-force", f.body_acceleration, "body acceleration g of the solvent along x, Δx/τ²", -1e3, 1e3);
+  app.add_real("--friction", f.friction, "plate friction γ of F = -γ u_d, m/τ", 0.0, 1e9);
+  app.add_real("--wca-epsilon", f.wca_epsilon, "WCA energy ε/k_BT (eq. B.4)", 0.0, 1e6);
+  app.add_real("--wca-range", f.wca_r0, "WCA length r0/Δx (eq. B.4)", 0.0, 100.0, Bounds::left_open);
+  app.add_choice("--collision", par.rule, "MPC collision rule", {"at+a", "at-a", "srd"});
+  app.add_int("--discs", par.discs, "number of discs N (spacing a = L/N)", 0, 1000000);
+  app.add_int("--wavelength", par.wavelength, "discs per period of the initial zigzag", 1, 1000000);
+  app.add_real("--amplitude", par.amplitude, "zigzag amplitude /Δx (-1: largest without wall contact)", -1.0, 1e4);
+  app.add_real("--warmup", par.warmup, "time before the measured frames, τ", 0.0, 1e9);
+  app.add_real("--time", par.time, "measured time, τ", 0.0, 1e9, Bounds::left_open);
+  app.add_real("--frame-interval", par.frame_interval, "time between frames, τ", 0.0, 1e9, Bounds::left_open);
+  app.add_real("--checkpoint-interval", par.checkpoint_interval, "time between checkpoints, τ", 0.0, 1e9,
+               Bounds::left_open);
+  app.add_real("--calibrated-k", par.calibrated_ratio,
+               "K = u_d/u_oil of a single-disc run for the theory curves (0: this run's own ratio)", 0.0, 1.0);
+  app.add_int("--seed", par.seed, "random seed (solvent, collisions)", 0, 4294967295LL);
+  app.add_choice("--precision", par.precision, "floating-point precision of the kernels", {"double", "float"});
+  app.add_int("--threads", par.threads, "host threads (0: OMP_NUM_THREADS or all cores)", 0, 4096);
+  app.add_flag("--restart", par.restart, "continue from <out>.ckpt.h5");
+  app.add_flag("--no-plot", par.no_plot, "do not write the PNG plot");
+  return app.run(argc, argv, [&] {
+    mesoflow::KokkosScope kokkos(par.threads);
+    if (par.precision == "float")
+      mesoflow::run<float>(par, app);
+    else
+      mesoflow::run<double>(par, app);
+  });
+}

@@ -1,0 +1,136 @@
+// disc_bounce_back.hpp — no-slip coupling of the MPC solvent to moving rigid discs in the streaming
+// step: bounce-back on the moving surface, v' = −v + 2 v_b (Appendix B; Padding & Louis, PRE 74,
+// 031402 (2006), for moving bodies), with the surface velocity v_b = U + Ω × (r_c − X).
+//
+// Runs after the discs moved (RigidDiscs::move, bins rebuilt) and the solvent streamed
+// (mpc::stream, then the wall bounce-back). A particle now inside disc k (|x − X_k| < R, minimum
+// image; candidates from the disc bins, never all discs) is treated relative to the disc's new
+// centre, along its straight path from the old position x − h v:
+//  * old position outside: the crossing point r_c on the segment (the first root of
+//    |r_old + t v| = R), v' = −v + 2 v_b(r_c), and the particle streams from r_c with v' for the
+//    remaining time;
+//  * old position inside (swept by the moving disc): it is put on the surface, r_c = R r/|r| (the
+//    radial projection of its position), with the same velocity rule and no further streaming.
+// Where the remaining streaming leaves it inside (a disc moving or spinning faster than the
+// particle leaves), it is projected radially onto the surface. Points on the surface are put at
+// R (1 + 8ε) so that rounding does not leave them inside.
+//
+// The momentum change Δp = m(v' − v) is taken from the disc: impulse −Δp and angular impulse
+// −(r_c − X) × Δp, added to RigidDiscs::impulse through a ScatterView (thread-duplicated on
+// OpenMP, where the static RangePolicy gives every duplicate a fixed set of particles in a fixed
+// order, so the sums are reproducible at a fixed thread count; atomic on GPUs, not reproducible).
+// Particles that cross a disc entirely within one step, or that a bounce moves into another disc or
+// through a wall, are not treated (the step moves particles by h|v| ≪ R and ≪ the gaps).
+#pragma once
+
+#include "kernels/common/kokkos_compat.hpp"
+#include "kernels/common/vec.hpp"
+#include "kernels/mpc/rigid_discs.hpp"
+
+#include <Kokkos_ScatterView.hpp>
+
+#include <stdexcept>
+#include <type_traits>
+
+namespace mesoflow::mpc {
+
+// The bounce-back of one particle on one disc, in the disc's frame (r = x − X). Returns the
+// contact point r_c; r and v are replaced by the new relative position and velocity.
+template <class Real>
+KOKKOS_INLINE_FUNCTION Vec<2, Real> bounce_on_disc(Vec<2, Real>& r, Vec<2, Real>& v, Real h, Real radius,
+                                                   const Vec<2, Real>& disc_velocity, Real disc_omega) {
+  constexpr Real epsilon = std::is_same<Real, float>::value ? Real(1.1920928955078125e-07) : Real(2.220446049250313e-16);
+  const Real outward = Real(1) + Real(8) * epsilon;
+  const Real r2 = radius * radius;
+  const Vec<2, Real> r_old = r - h * v;
+  Vec<2, Real> rc;
+  Real t_rest = Real(0);
+  const Real c = norm2(r_old) - r2;
+  if (c >= Real(0)) {
+    // |r_old + t v|² = R²: a t² + 2 b t + c = 0, c ≥ 0, the smaller root.
+    const Real a = norm2(v), b = dot(r_old, v);
+    const Real disc = b * b - a * c;
+    Real t = a > Real(0) ? (-b - kmath::sqrt(disc > Real(0) ? disc : Real(0))) / a : h;
+    t = t < Real(0) ? Real(0) : (t > h ? h : t);
+    rc = r_old + t * v;
+    t_rest = h - t;
+  } else {
+    const Real len = kmath::sqrt(norm2(r));
+    rc = len > Real(0) ? (radius / len) * r : Vec<2, Real>{{radius, Real(0)}};
+  }
+  const Vec<2, Real> vb{{disc_velocity[0] - disc_omega * rc[1], disc_velocity[1] + disc_omega * rc[0]}};
+  v = Real(2) * vb - v;
+  r = rc + t_rest * v;
+  const Real len2 = norm2(r);
+  if (len2 < r2 * outward * outward) {
+    const Real len = kmath::sqrt(len2);
+    r = len > Real(0) ? (radius * outward / len) * r : Vec<2, Real>{{radius * outward, Real(0)}};
+  }
+  return rc;
+}
+
+template <class Real, class ExecSpace>
+class DiscBounceBack {
+ public:
+  using vector_view = Kokkos::View<Real* [2], Kokkos::LayoutLeft, ExecSpace>;
+
+  // `mass`: the solvent particle mass m. The scatter view is created here, once.
+  DiscBounceBack(const RigidDiscs<Real, ExecSpace>& discs, Real mass)
+      : mass_(mass),
+        scatter_(Kokkos::Experimental::create_scatter_view(discs.impulse)),
+        target_(discs.impulse.data()) {
+    if (!(mass > Real(0))) throw std::invalid_argument("disc bounce-back: mass must be > 0");
+  }
+
+  // Bounce-back of every row of (x, v) after a streaming step of length h (see the file comment);
+  // adds the discs' impulses to discs.impulse (which must be the view given to the constructor).
+  void apply(const vector_view& x, const vector_view& v, Real h, const RigidDiscs<Real, ExecSpace>& discs) {
+    if (discs.size() == 0) return;
+    if (discs.impulse.data() != target_)
+      throw std::invalid_argument("disc bounce-back: not the discs given to the constructor");
+    scatter_.reset_except(discs.impulse);
+    auto scatter = scatter_;
+    const auto bins = discs.bins();
+    const auto X = discs.x;
+    const auto U = discs.u;
+    const auto W = discs.omega;
+    const Real radius = discs.radius(), m = mass_;
+    Kokkos::parallel_for(
+        "mesoflow::mpc::disc_bounce_back", Kokkos::RangePolicy<ExecSpace>(0, x.extent(0)), KOKKOS_LAMBDA(int i) {
+          const Vec<2, Real> xi = Vec<2, Real>::load(x, i);
+          int hit = -1;
+          Vec<2, Real> r;
+          bins.for_each_near(xi, [&](int k) {
+            if (hit >= 0) return;
+            const Vec<2, Real> dr = bins.separation(xi, Vec<2, Real>::load(X, k));
+            if (norm2(dr) < radius * radius) {
+              hit = k;
+              r = dr;
+            }
+          });
+          if (hit < 0) return;
+          const Vec<2, Real> v_old = Vec<2, Real>::load(v, i);
+          Vec<2, Real> vi = v_old;
+          const Vec<2, Real> rc = bounce_on_disc(r, vi, h, radius, Vec<2, Real>::load(U, hit), W(hit));
+          Vec<2, Real> xn = Vec<2, Real>::load(X, hit) + r;
+          bins.box.wrap(xn);
+          xn.store(x, i);
+          vi.store(v, i);
+          const double dpx = double(m) * (double(vi[0]) - double(v_old[0]));
+          const double dpy = double(m) * (double(vi[1]) - double(v_old[1]));
+          auto access = scatter.access();
+          access(hit, 0) -= dpx;
+          access(hit, 1) -= dpy;
+          access(hit, 2) -= double(rc[0]) * dpy - double(rc[1]) * dpx;
+        });
+    auto impulse = discs.impulse;
+    Kokkos::Experimental::contribute(impulse, scatter_);
+  }
+
+ private:
+  Real mass_;
+  Kokkos::Experimental::ScatterView<double* [3], Kokkos::LayoutRight, ExecSpace> scatter_;
+  const double* target_;
+};
+
+}  // namespace mesoflow::mpc

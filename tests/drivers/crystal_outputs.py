@@ -1,0 +1,68 @@
+#!/usr/bin/python3
+"""Runs a small `crystal` (5 discs in a 60 x 15 channel, n = 10, 3 tau) and checks what a user gets:
+the H5MD trajectory (disc positions unwrapped along x: every disc moved downstream, in the order
+it started; parameters as attributes), the observables CSV, the JSON summary (0 < K < 1: the
+plate friction holds the discs back), the phonon analysis HDF5 (spectra on the N x T grid, the
+theory curves of eqs. 3, 4, 8, 13, 14, the correlation maps) and the PNG.
+
+usage: crystal_outputs.py <crystal executable> <work dir>
+"""
+import json
+import os
+import subprocess
+import sys
+
+import h5py
+import numpy as np
+
+exe, work = sys.argv[1], sys.argv[2]
+os.makedirs(work, exist_ok=True)
+out = os.path.join(work, "run.h5")
+args = [exe, "--quiet", "--length", "60", "--discs", "5", "--wavelength", "5", "--density", "10", "--dt", "0.02",
+        "--friction", "500", "--body-force", "0.05", "--warmup", "1", "--time", "2", "--frame-interval", "0.1",
+        "--output", out]
+subprocess.run(args, check=True)
+failures = []
+
+
+def check(ok, what):
+    if not ok:
+        failures.append(what)
+
+
+with h5py.File(out, "r") as f:
+    pos = f["particles/discs/position/value"][()]
+    steps = f["particles/discs/position/step"][()]
+    check(pos.shape == (31, 5, 2), f"position frames shape {pos.shape}, expected (31, 5, 2)")
+    check(np.all(np.diff(steps) == 5), "frames every 5 steps")
+    moved = pos[-1, :, 0] - pos[0, :, 0]
+    check(np.all(moved > 0), f"every disc moved downstream, got {moved}")
+    check(np.all(np.diff(pos[-1, :, 0]) > 0), "discs keep their order along the channel")
+    check(np.all((pos[:, :, 1] > 5) & (pos[:, :, 1] < 10)), "disc centres stay R away from the walls")
+    check(abs(f["parameters"].attrs["viscosity_b3"] - (10 * 0.02 * (10 / 9 - 0.5) + 8.6 / (24 * 0.02))) < 1e-9,
+          "eq. (B.3) viscosity attribute")
+    check("u_oil" in f["observables"] and "u_d" in f["observables"], "u_oil and u_d observables")
+
+with open(os.path.join(work, "run.json")) as fj:
+    summary = json.load(fj)
+check(0 < summary["K"] < 1, f"0 < K < 1, got {summary['K']}")
+check(summary["measured_frames"] == 21, f"21 measured frames after the warmup, got {summary['measured_frames']}")
+check(abs(summary["spacing"] - 12) < 1e-12, "spacing L/N = 12")
+
+with h5py.File(os.path.join(work, "run_phonons.h5"), "r") as f:
+    check(f["spectra/transverse"].shape == f["spectra/longitudinal"].shape, "spectra shapes agree")
+    check(sorted(f["spectra/transverse"].shape) == [5, 21], f"spectra on the N x T grid, got {f['spectra/transverse'].shape}")
+    check(np.all(np.isfinite(f["spectra/transverse"][()])), "finite transverse spectrum")
+    check(abs(f.attrs["K"] - summary["K"]) < 1e-6 * abs(summary["K"]), "the analysis uses the measured K")
+    names = set(f["theory"].keys())
+    check(len(names) >= 6, f"theory curves, got {sorted(names)}")
+
+csv_rows = open(os.path.join(work, "run.csv")).read().strip().splitlines()
+check(csv_rows[0] == "step,time,u_oil,u_d" and len(csv_rows) == 32, "observables CSV")
+check(os.path.getsize(os.path.join(work, "run_phonons.png")) > 10000, "phonon PNG written")
+check(os.path.isfile(os.path.join(work, "run_theory.csv")), "theory CSV written")
+
+if failures:
+    print("FAIL:\n  " + "\n  ".join(failures))
+    sys.exit(1)
+print("crystal outputs ok: K = %.3f" % summary["K"])
