@@ -16,6 +16,8 @@
 //   8. the virtual particles' momentum change goes to the walls and discs
 //   9. WCA forces (eq. B.4, disc_wca.hpp) and the disc velocity update
 //      U ← [U + J/M + h F/M]/(1 + γh/M), Ω ← Ω + L/I                 (rigid_discs.hpp)
+//  10. every sort_interval steps the solvent is reordered in memory by collision cell
+//      (MpcCollision::sort_by_cell: solvent particles are anonymous), for cache locality
 // With no walls, γ = 0 and g = 0 the momentum of solvent + discs is conserved to round-off.
 //
 // Units: cell size a = Δx, solvent mass m, k_BT; τ = Δx √(m/k_BT). Disc mass M = ρ π R² with the
@@ -69,6 +71,7 @@ struct ChannelFlowParameters {
   Real wca_epsilon = 1;                        // ε of eq. (B.4)
   Real wca_r0 = 1;                             // r0 of eq. (B.4)
   std::uint64_t seed = 1;
+  int sort_interval = 25;  // steps between reorderings of the solvent by collision cell; 0: never
 };
 
 template <class Real, class ExecSpace = Kokkos::DefaultExecutionSpace>
@@ -130,6 +133,7 @@ class ChannelFlow {
       discs_.update_velocities(h, p_.friction);
     }
     ++step_;
+    if (p_.sort_interval > 0 && step_ % std::uint64_t(p_.sort_interval) == 0) collision_.sort_by_cell(x_, v_);
   }
 
   // After the solvent and disc state were overwritten (a restart from a checkpoint): continue as
