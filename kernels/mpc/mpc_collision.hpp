@@ -22,8 +22,9 @@
 // duplicated-ScatterView scheme written out, with the zeroing fused into kernel 1 and the
 // reduction into kernel 2; a CSR counting sort (count, scan, fill, in-cell sort) would add three
 // passes over the particles per step. The chunked copies need host-like concurrency (T copies of
-// the cell sums), so the class is for host execution spaces; a device backend would need atomic
-// (ScatterView) sums instead. sort_by_cell() reorders anonymous particles by cell every few tens
+// the cell sums); on device execution spaces (CellSums::automatic) kernel 1 instead adds each
+// particle's contribution with atomics into one copy (the ScatterView-on-GPU scheme), which is not
+// bitwise reproducible; tests run that path on OpenMP too (CellSums::atomic). sort_by_cell() reorders anonymous particles by cell every few tens
 // of steps, which keeps the scattered sums and cell reads in cache (bench_mpc.cpp).
 //
 // Random numbers: v^ran of real particle i from particle_stream(seed, step, i); of virtual row j
@@ -73,6 +74,12 @@ inline std::string to_string(CollisionRule rule) {
   throw std::invalid_argument("collision rule: unknown value " + std::to_string(int(rule)));
 }
 
+// How the cell sums are accumulated: `chunked` (one copy of the sums per thread, summed in chunk
+// order: bitwise reproducible at a fixed thread count; host execution spaces), `atomic` (one copy,
+// atomic adds: what device backends use; the order of the additions, and so the last bits, vary
+// from run to run), `automatic` (chunked on host spaces, atomic on device spaces).
+enum class CellSums { automatic, chunked, atomic };
+
 template <class Real>
 struct CollisionParameters {
   CollisionRule rule = CollisionRule::at_plus_a;
@@ -80,14 +87,15 @@ struct CollisionParameters {
   Real mass = 1;    // particle mass m (real and virtual)
   Real srd_angle = Real(2.2689280275926285);  // SRD rotation angle α, 130°
   std::uint64_t seed = 1;
+  CellSums cell_sums = CellSums::automatic;
 };
 
 template <int D, class Real, class ExecSpace = Kokkos::DefaultExecutionSpace>
 class MpcCollision {
  public:
   using vector_view = Kokkos::View<Real* [D], Kokkos::LayoutLeft, ExecSpace>;
-  static_assert(Kokkos::SpaceAccessibility<Kokkos::HostSpace, typename ExecSpace::memory_space>::accessible,
-                "MpcCollision: host execution spaces only (chunked cell sums, see the file comment)");
+  static constexpr bool host_space =
+      Kokkos::SpaceAccessibility<Kokkos::HostSpace, typename ExecSpace::memory_space>::accessible;
 
   MpcCollision(const CollisionGrid<D, Real>& grid, const CollisionParameters<Real>& p, std::size_t particle_capacity,
                std::size_t virtual_capacity = 0)
@@ -95,7 +103,10 @@ class MpcCollision {
         params_(p),
         particle_capacity_(particle_capacity),
         virtual_capacity_(virtual_capacity),
-        num_chunks_(concurrency<ExecSpace>() > 0 ? concurrency<ExecSpace>() : 1) {
+        atomic_sums_(p.cell_sums == CellSums::atomic || (p.cell_sums == CellSums::automatic && !host_space)),
+        num_chunks_(atomic_sums_ ? 1 : (concurrency<ExecSpace>() > 0 ? concurrency<ExecSpace>() : 1)) {
+    if (p.cell_sums == CellSums::chunked && !host_space)
+      throw std::invalid_argument("MPC collision: chunked cell sums need a host execution space");
     if (!(p.kT >= Real(0)) || !std::isfinite(double(p.kT)))
       throw std::invalid_argument("MPC collision: kT must be finite and >= 0, got " + std::to_string(double(p.kT)));
     if (!(p.mass > Real(0)) || !std::isfinite(double(p.mass)))
@@ -269,54 +280,94 @@ class MpcCollision {
     const std::uint64_t seed = params_.seed;
     const Real speed = Real(std::sqrt(double(params_.kT) / double(params_.mass)));
 
-    Kokkos::parallel_for(
-        "mesoflow::mpc::bin_and_sum", Kokkos::RangePolicy<ExecSpace>(0, chunks), KOKKOS_LAMBDA(const int t) {
-          double* sums = partial.data() + std::size_t(t) * ncell * K;
-          for (std::size_t k = 0; k < ncell * K; ++k) sums[k] = 0.0;
-          const int begin = int(std::int64_t(n) * t / chunks), end = int(std::int64_t(n) * (t + 1) / chunks);
-          for (int i = begin; i < end; ++i) {
+    if (atomic_sums_) {
+      Kokkos::parallel_for(
+          "mesoflow::mpc::zero_sums", Kokkos::RangePolicy<ExecSpace>(0, ncell * K),
+          KOKKOS_LAMBDA(const std::size_t k) { partial(k) = 0.0; });
+      Kokkos::parallel_for(
+          "mesoflow::mpc::bin_and_sum_atomic", Kokkos::RangePolicy<ExecSpace>(0, n + nv), KOKKOS_LAMBDA(const int i) {
+            const bool real = i < n;
+            const int j = real ? i : i - n;
             Real xi[D], vi[D], r[D], vr[D];
             for (int d = 0; d < D; ++d) {
-              xi[d] = x(i, d);
-              vi[d] = v(i, d);
+              xi[d] = real ? x(j, d) : xv(j, d);
+              vi[d] = real ? v(j, d) : vv(j, d);
             }
             if constexpr (Stream) {
-              stream_particle(xi, vi, h, g, grid);
-              for (int d = 0; d < D; ++d) {
-                x(i, d) = xi[d];
-                v(i, d) = vi[d];
+              if (real) {
+                stream_particle(xi, vi, h, g, grid);
+                for (int d = 0; d < D; ++d) {
+                  x(j, d) = xi[d];
+                  v(j, d) = vi[d];
+                }
               }
             }
             const int c = grid.locate(xi, r);
             cell_of(i) = c;
             if constexpr (Rule::uses_random_velocity) {
-              RandomStream rs = particle_stream(seed, step, static_cast<std::uint32_t>(i));
+              RandomStream rs = real ? particle_stream(seed, step, static_cast<std::uint32_t>(j))
+                                     : RandomStream(seed, step, mpc_stream_tag::virtual_particle,
+                                                    static_cast<std::uint32_t>(j));
               thermal_velocity(rs, speed, vr);
               for (int d = 0; d < D; ++d) vran(i, d) = vr[d];
             } else {
               for (int d = 0; d < D; ++d) vr[d] = Real(0);
             }
-            rule.add(sums + std::size_t(c) * K, r, vi, vr);
-          }
-          const int vbegin = int(std::int64_t(nv) * t / chunks), vend = int(std::int64_t(nv) * (t + 1) / chunks);
-          for (int j = vbegin; j < vend; ++j) {
-            Real xi[D], vi[D], r[D], vr[D];
-            for (int d = 0; d < D; ++d) {
-              xi[d] = xv(j, d);
-              vi[d] = vv(j, d);
+            double local[K];
+            for (int k = 0; k < K; ++k) local[k] = 0.0;
+            rule.add(local, r, vi, vr);
+            for (int k = 0; k < K; ++k) Kokkos::atomic_add(&partial(std::size_t(c) * K + k), local[k]);
+          });
+    } else {
+      Kokkos::parallel_for(
+          "mesoflow::mpc::bin_and_sum", Kokkos::RangePolicy<ExecSpace>(0, chunks), KOKKOS_LAMBDA(const int t) {
+            double* sums = partial.data() + std::size_t(t) * ncell * K;
+            for (std::size_t k = 0; k < ncell * K; ++k) sums[k] = 0.0;
+            const int begin = int(std::int64_t(n) * t / chunks), end = int(std::int64_t(n) * (t + 1) / chunks);
+            for (int i = begin; i < end; ++i) {
+              Real xi[D], vi[D], r[D], vr[D];
+              for (int d = 0; d < D; ++d) {
+                xi[d] = x(i, d);
+                vi[d] = v(i, d);
+              }
+              if constexpr (Stream) {
+                stream_particle(xi, vi, h, g, grid);
+                for (int d = 0; d < D; ++d) {
+                  x(i, d) = xi[d];
+                  v(i, d) = vi[d];
+                }
+              }
+              const int c = grid.locate(xi, r);
+              cell_of(i) = c;
+              if constexpr (Rule::uses_random_velocity) {
+                RandomStream rs = particle_stream(seed, step, static_cast<std::uint32_t>(i));
+                thermal_velocity(rs, speed, vr);
+                for (int d = 0; d < D; ++d) vran(i, d) = vr[d];
+              } else {
+                for (int d = 0; d < D; ++d) vr[d] = Real(0);
+              }
+              rule.add(sums + std::size_t(c) * K, r, vi, vr);
             }
-            const int c = grid.locate(xi, r);
-            cell_of(n + j) = c;
-            if constexpr (Rule::uses_random_velocity) {
-              RandomStream rs(seed, step, mpc_stream_tag::virtual_particle, static_cast<std::uint32_t>(j));
-              thermal_velocity(rs, speed, vr);
-              for (int d = 0; d < D; ++d) vran(n + j, d) = vr[d];
-            } else {
-              for (int d = 0; d < D; ++d) vr[d] = Real(0);
+            const int vbegin = int(std::int64_t(nv) * t / chunks), vend = int(std::int64_t(nv) * (t + 1) / chunks);
+            for (int j = vbegin; j < vend; ++j) {
+              Real xi[D], vi[D], r[D], vr[D];
+              for (int d = 0; d < D; ++d) {
+                xi[d] = xv(j, d);
+                vi[d] = vv(j, d);
+              }
+              const int c = grid.locate(xi, r);
+              cell_of(n + j) = c;
+              if constexpr (Rule::uses_random_velocity) {
+                RandomStream rs(seed, step, mpc_stream_tag::virtual_particle, static_cast<std::uint32_t>(j));
+                thermal_velocity(rs, speed, vr);
+                for (int d = 0; d < D; ++d) vran(n + j, d) = vr[d];
+              } else {
+                for (int d = 0; d < D; ++d) vr[d] = Real(0);
+              }
+              rule.add(sums + std::size_t(c) * K, r, vi, vr);
             }
-            rule.add(sums + std::size_t(c) * K, r, vi, vr);
-          }
-        });
+          });
+    }
 
     Kokkos::parallel_for(
         "mesoflow::mpc::cell_values", Kokkos::RangePolicy<ExecSpace>(0, ncell), KOKKOS_LAMBDA(const std::size_t c) {
@@ -360,6 +411,7 @@ class MpcCollision {
   CollisionGrid<D, Real> grid_;
   CollisionParameters<Real> params_;
   std::size_t particle_capacity_, virtual_capacity_;
+  bool atomic_sums_;
   int num_chunks_;
   Kokkos::View<int*, ExecSpace> cell_of_;
   vector_view vran_;
