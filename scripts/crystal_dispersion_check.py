@@ -8,7 +8,8 @@ it finds the frequency of largest power, restricted to |ω| below 3 × the large
 (the Nyquist range may be far wider), and compares it with
   transverse |ỹ(k, ω)|²:   eq. (3) ω⊥(k), and, for reference, its negative;
   longitudinal |x̃(k, ω)|²: eq. (8) 2ω⊥(k/2) against eq. (4) ω∥(k).
-It reports, per curve, the mean distance |ω_peak − ω_theory| in units of the frequency bin 2π/(TΔt)
+It reports, per curve, the fraction of the spectral power within ±1/4 of the largest theory
+frequency of the curve (robust to noise), the mean distance |ω_peak − ω_theory| in units of the frequency bin 2π/(TΔt)
 and in units of the curve's range, and for the longitudinal spectrum the number of k columns whose
 peak lies closer to eq. (8) than to eq. (4). It also gives, for the Pearson amplitude correlation
 C(k∥, k⊥) (/correlation/amplitude_fluctuation), for every k⊥ > 0 the k∥ > 0 of the largest |C|
@@ -62,6 +63,18 @@ def distance(rows, curve):
     return {"mean_bins": float(np.mean(d) / bin_width), "mean_over_range": float(np.mean(d) / scale)}
 
 
+def power_near(power, curve, half_width):
+    """Fraction of the power in 0 < k < π/a, |ω| ≤ 3 × scale, lying within ±half_width of the curve."""
+    total = near = 0.0
+    for i, kk in enumerate(k):
+        if not (0 < kk < np.pi / a - 1e-12):
+            continue
+        row = np.where(window, power[i], 0.0)
+        total += row.sum()
+        near += row[np.abs(omega - theory(curve, kk)) <= half_width].sum()
+    return near / total
+
+
 pt, pl = peaks(trans), peaks(longi)
 result = {
     "file": path,
@@ -74,6 +87,12 @@ result = {
     "longitudinal_vs_eq4": distance(pl, w4),
     "longitudinal_columns_closer_to_eq8": int(np.sum(np.abs(pl[:, 1] - theory(w8, pl[:, 0])) <
                                                      np.abs(pl[:, 1] - theory(w4, pl[:, 0])))),
+    "power_fraction_within_quarter_range": {
+        "transverse_eq3": power_near(trans, w3, scale / 4),
+        "transverse_minus_eq3": power_near(trans, -w3, scale / 4),
+        "longitudinal_eq8": power_near(longi, w8, scale / 4),
+        "longitudinal_eq4": power_near(longi, w4, scale / 4),
+    },
     "transverse_peaks": [[float(x), float(y)] for x, y in pt],
     "longitudinal_peaks": [[float(x), float(y)] for x, y in pl],
 }
