@@ -6,8 +6,8 @@
 //   BM_MpcStep<3, Real, srd>/1000000/10/25: SRD at 10 particles per cell (target 5·10⁷/s).
 //   BM_MpcStepSeparate: the same step as three calls (stream, shift_grid, collide), to show what
 //     the fused streaming saves.
-//   BM_MpcReferenceTriad: x ← x + h v over 10⁶ 3D double particles (48 bytes per particle), the
-//     memory-bandwidth scale of the machine for these array sizes.
+// perf/run normalises these rates by bench_common's BM_ReferenceTriad (x ← x + h v over 2²⁰ 3D
+// double particles) measured in the same run.
 // Particles start at uniformly random positions in random memory order; the third argument sorts
 // them by cell every so many steps (0: never).
 #include <benchmark/benchmark.h>
@@ -120,23 +120,10 @@ void BM_MpcStepSeparate(benchmark::State& state) {
   mpc_step<D, Real, Rule, false>(state);
 }
 
-void BM_MpcReferenceTriad(benchmark::State& state) {
-  const int n = int(state.range(0));
-  Kokkos::View<double* [3], Kokkos::LayoutLeft, Exec> x("mesoflow::bench::x", n), v("mesoflow::bench::v", n);
-  timed(state, [&] {
-    Kokkos::parallel_for(
-        "mesoflow::bench::mpc_reference_triad", Kokkos::RangePolicy<Exec>(0, n), KOKKOS_LAMBDA(int i) {
-          for (int d = 0; d < 3; ++d) x(i, d) += 1e-3 * v(i, d);
-        });
-  });
-  state.SetItemsProcessed(state.iterations() * n);
-}
-
 constexpr auto srd = CollisionRule::srd;
 constexpr auto at_plus_a = CollisionRule::at_plus_a;
 constexpr auto at_minus_a = CollisionRule::at_minus_a;
 
-BENCHMARK(BM_MpcReferenceTriad)->Arg(1000000)->UseManualTime()->Unit(benchmark::kMillisecond);
 BENCHMARK_TEMPLATE(BM_MpcStep, 2, double, at_plus_a)->Args({600000, 40, 25})->Args({600000, 40, 0})->UseManualTime()->Unit(benchmark::kMillisecond);
 BENCHMARK_TEMPLATE(BM_MpcStep, 2, float, at_plus_a)->Args({600000, 40, 25})->Args({600000, 40, 0})->UseManualTime()->Unit(benchmark::kMillisecond);
 BENCHMARK_TEMPLATE(BM_MpcStep, 3, double, srd)->Args({1000000, 10, 25})->Args({1000000, 10, 0})->UseManualTime()->Unit(benchmark::kMillisecond);

@@ -3,6 +3,7 @@
 // Parseval, the sign convention on synthetic travelling waves, the ridge of the linear lattice
 // dynamics (C.5)–(C.6) on eqs. (3)–(4), the correlation strength (5)–(7) for quadratic and linear
 // coupling, and the HDF5/CSV output.
+#include "scratch_dir.hpp"
 #include "drivers/crystal/phonon_spectra.hpp"
 
 #include <gtest/gtest.h>
@@ -31,27 +32,7 @@ namespace {
 namespace fs = std::filesystem;
 constexpr double pi = 3.14159265358979323846;
 
-// A fresh directory for one test under the system temporary directory, removed afterwards.
-class ScratchDir {
- public:
-  ScratchDir() {
-    const auto* test = ::testing::UnitTest::GetInstance()->current_test_info();
-    std::string name = std::string(test->test_suite_name()) + "." + test->name();
-    for (char& c : name)
-      if (!std::isalnum(static_cast<unsigned char>(c)) && c != '.') c = '_';
-    path_ = fs::temp_directory_path() / ("mesoflow-" + name + "-" + std::to_string(::getpid()));
-    fs::remove_all(path_);
-    fs::create_directories(path_);
-  }
-  ~ScratchDir() {
-    std::error_code ignored;
-    fs::remove_all(path_, ignored);
-  }
-  std::string file(const std::string& name) const { return (path_ / name).string(); }
-
- private:
-  fs::path path_;
-};
+using ::mesoflow::testing::ScratchDir;
 
 std::vector<double> random_field(std::size_t n, std::uint64_t seed) {
   std::mt19937_64 gen(seed);

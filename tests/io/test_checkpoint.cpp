@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "scratch_dir.hpp"
 #include "kernels/io/checkpoint.hpp"
 #include "kernels/io/h5md_writer.hpp"
 
@@ -21,27 +22,7 @@ namespace {
 namespace fs = std::filesystem;
 using namespace mesoflow::io;
 
-// A fresh directory for one test under the system temporary directory, removed afterwards.
-class ScratchDir {
- public:
-  ScratchDir() {
-    const auto* test = ::testing::UnitTest::GetInstance()->current_test_info();
-    std::string name = std::string(test->test_suite_name()) + "." + test->name();
-    for (char& c : name)
-      if (!std::isalnum(static_cast<unsigned char>(c)) && c != '.') c = '_';
-    path_ = fs::temp_directory_path() / ("mesoflow-" + name + "-" + std::to_string(::getpid()));
-    fs::remove_all(path_);
-    fs::create_directories(path_);
-  }
-  ~ScratchDir() {
-    std::error_code ignored;
-    fs::remove_all(path_, ignored);
-  }
-  std::string file(const std::string& name) const { return (path_ / name).string(); }
-
- private:
-  fs::path path_;
-};
+using ::mesoflow::testing::ScratchDir;
 
 // Message of the `Exception` thrown by `action`; a test failure when none is thrown.
 template <class Exception, class Action>
