@@ -4,7 +4,7 @@ after the 100 tau warmup) and checks what a user gets:
 the H5MD trajectory (disc positions unwrapped along x: every disc moved downstream, in the order
 it started; parameters as attributes), the observables CSV, the JSON summary (K well below 1: the
 plate friction holds the discs back), the phonon analysis HDF5 (spectra on the N x T grid, the
-theory curves of eqs. 3, 4, 8, 13, 14, the correlation maps) and the PNG.
+theory curves of eqs. 3, 4, 8, 13, 14, the correlation maps) and the PNG; then --calibrated-k.
 
 usage: crystal_outputs.py <crystal executable> <work dir>
 """
@@ -62,6 +62,19 @@ csv_rows = open(os.path.join(work, "run.csv")).read().strip().splitlines()
 check(csv_rows[0] == "step,time,u_oil,u_d" and len(csv_rows) == 122, "observables CSV")
 check(os.path.getsize(os.path.join(work, "run_phonons.png")) > 10000, "phonon PNG written")
 check(os.path.isfile(os.path.join(work, "run_theory.csv")), "theory CSV written")
+
+# --calibrated-k: the theory takes a single-disc K with this run's u_d (u_oil = u_d/K), the
+# measured K is still reported.
+out2 = os.path.join(work, "calibrated.h5")
+subprocess.run(args[:-1] + [out2, "--calibrated-k", "0.5", "--no-plot"], check=True)
+with open(os.path.join(work, "calibrated.json")) as fj:
+    summary2 = json.load(fj)
+check(abs(summary2["theory_K"] - 0.5) < 1e-12, f"theory_K = 0.5, got {summary2['theory_K']}")
+check(abs(summary2["K"] - summary["K"]) < 1e-12, "the measured K does not depend on --calibrated-k")
+with h5py.File(os.path.join(work, "calibrated_phonons.h5"), "r") as f:
+    check(abs(f.attrs["K"] - 0.5) < 1e-12 and abs(f.attrs["u_oil"] - 2 * f.attrs["u_d"]) < 1e-12,
+          "the analysis uses K = 0.5 with u_oil = u_d/K")
+check(not os.path.exists(os.path.join(work, "calibrated_phonons.png")), "--no-plot writes no PNG")
 
 if failures:
     print("FAIL:\n  " + "\n  ".join(failures))
