@@ -6,6 +6,7 @@
 // particle-updates/s for the triad.
 #include <benchmark/benchmark.h>
 
+#include "manual_timing.hpp"
 #include "kernels/common/langevin.hpp"
 #include "kernels/common/lennard_jones.hpp"
 #include "kernels/common/neighbor_list.hpp"
@@ -62,16 +63,7 @@ double reach_for(double neighbors) {
   return D == 3 ? std::cbrt(neighbors * 3.0 / (4.0 * kPi)) : std::sqrt(neighbors / kPi);
 }
 
-template <class Body>
-void timed(benchmark::State& state, Body&& body) {
-  for (auto _ : state) {
-    Kokkos::fence();
-    const auto t0 = std::chrono::steady_clock::now();
-    body();
-    Kokkos::fence();
-    state.SetIterationTime(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
-  }
-}
+using bench::timed;
 
 template <int D, class Real>
 void BM_CellBinning(benchmark::State& state) {

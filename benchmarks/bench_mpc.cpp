@@ -12,6 +12,7 @@
 // them by cell every so many steps (0: never).
 #include <benchmark/benchmark.h>
 
+#include "manual_timing.hpp"
 #include "kernels/common/random.hpp"
 #include "kernels/mpc/maxwell_boltzmann.hpp"
 #include "kernels/mpc/mpc_collision.hpp"
@@ -65,16 +66,7 @@ MpcBox<D, Real> make_box(int n, int per_cell) {
   return box;
 }
 
-template <class Body>
-void timed(benchmark::State& state, Body&& body) {
-  for (auto _ : state) {
-    Kokkos::fence();
-    const auto t0 = std::chrono::steady_clock::now();
-    body();
-    Kokkos::fence();
-    state.SetIterationTime(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
-  }
-}
+using bench::timed;
 
 // Arguments: particles, particles per cell, sort interval (MpcCollision::sort_by_cell every that
 // many steps, its cost included; 0: never, the particles stay in random memory order).
