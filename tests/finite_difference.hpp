@@ -21,7 +21,10 @@ struct GradientCheck {
 template <int D, class Real, class Exec, class Energy>
 GradientCheck check_gradient(const Particles<D, Real, Exec>& p, Energy&& energy, double h) {
   energy();
-  const auto f = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), p.f);
+  // A copy, not a mirror view: on host backends a mirror view aliases p.f, which every later
+  // energy() call overwrites with the forces at perturbed positions.
+  const auto f = Kokkos::create_mirror(Kokkos::HostSpace(), p.f);
+  Kokkos::deep_copy(f, p.f);
   const auto x = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), p.x);
   GradientCheck c{0, 0};
   for (std::size_t i = 0; i < f.extent(0); ++i)

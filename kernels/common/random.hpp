@@ -190,6 +190,19 @@ KOKKOS_INLINE_FUNCTION RandomStream pair_stream(std::uint64_t seed, std::uint64_
   return RandomStream(seed, step, stream_tag::pair, i < j ? i : j, i < j ? j : i);
 }
 
+// The first number of pair_stream(seed, step, i, j).uniform_symmetric<Real>(), from a single
+// Philox call without the stream's bookkeeping: the DPD random force needs one number per pair.
+template <class Real>
+KOKKOS_INLINE_FUNCTION Real pair_uniform_symmetric(std::uint64_t seed, std::uint64_t step, std::uint32_t i,
+                                                   std::uint32_t j) {
+  const PhiloxKey key = {{static_cast<std::uint32_t>(seed), static_cast<std::uint32_t>(seed >> 32)}};
+  const PhiloxCounter ctr = {{i < j ? i : j, i < j ? j : i, static_cast<std::uint32_t>(step),
+                              ((static_cast<std::uint32_t>(step >> 32) & 0xFFu) << 24) | (stream_tag::pair << 16)}};
+  const PhiloxCounter w = philox4x32_10(ctr, key);
+  const std::uint64_t bits = (static_cast<std::uint64_t>(w.v[0]) << 32) | w.v[1];
+  return symmetric_from_bits<Real>(bits);
+}
+
 // Noise of one collision cell (MPC rotation axis and angle sign, cell thermostat), keyed on the
 // global cell index so it does not depend on how cells are distributed over threads.
 KOKKOS_INLINE_FUNCTION RandomStream cell_stream(std::uint64_t seed, std::uint64_t step,

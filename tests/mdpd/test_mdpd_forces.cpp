@@ -1,0 +1,258 @@
+// MDPD pair forces (kernels/mdpd): the conservative force of eq. (9a) is minus the gradient of its
+// potential (normalized density weight), the density weights integrate to one, Newton's third law
+// holds to round-off with every term on (random and dissipative forces, WCA cores), half and full
+// neighbor lists give the same forces, the random force is pairwise symmetric and reproducible, a
+// zero coefficient removes its term, and the Lucy density matches LAMMPS' mdpd/rhosum formula.
+#include "finite_difference.hpp"
+#include "kernels/mdpd/mdpd_system.hpp"
+#include "test_types.hpp"
+
+#include <cmath>
+#include <random>
+#include <vector>
+
+namespace mesoflow {
+namespace {
+
+using mdpd::MdpdParameters;
+using mdpd::MdpdSystem;
+
+template <int D, class Real, class Exec>
+MdpdSystem<D, Real, Exec> random_system(const MdpdParameters& par, double L, int n, unsigned seed,
+                                        NeighborListKind kind, double k_S = 12.5) {
+  mdpd::MdpdOptions opt;
+  opt.list_kind = kind;
+  opt.sort_every = 0;  // keep particle order: the tests index particles
+  opt.k_S = k_S;
+  MdpdSystem<D, Real, Exec> sys(par, Box<D, Real>::cube(Real(L), true), 99, opt);
+  sys.allocate(n);
+  std::mt19937 gen(seed);
+  std::uniform_real_distribution<double> u(0.0, L), g(-1.0, 1.0);
+  auto x = Kokkos::create_mirror_view(sys.particles.x);
+  auto v = Kokkos::create_mirror_view(sys.particles.v);
+  for (int i = 0; i < n; ++i)
+    for (int d = 0; d < D; ++d) {
+      x(i, d) = Real(u(gen));
+      v(i, d) = Real(g(gen));
+    }
+  Kokkos::deep_copy(sys.particles.x, x);
+  Kokkos::deep_copy(sys.particles.v, v);
+  return sys;
+}
+
+// U = Σ_{i<j} ½ A r_A w_A² + Σ_i ψ(ρ̄_i) on the host, all pairs (minimum image).
+template <int D, class View>
+double conservative_energy(const View& x, const MdpdParameters& par, double L) {
+  const auto pot = mdpd::ConservativePotential::make<D>(par);
+  const mdpd::DensityWeight<D, double> w(mdpd::DensityKernel::normalized, par.r_B);
+  const int n = int(x.extent(0));
+  std::vector<double> rho(n, 0.0);
+  double u = 0;
+  for (int i = 0; i < n; ++i)
+    for (int j = i + 1; j < n; ++j) {
+      double r2 = 0;
+      for (int d = 0; d < D; ++d) {
+        double dx = double(x(i, d)) - double(x(j, d));
+        dx -= L * std::round(dx / L);
+        r2 += dx * dx;
+      }
+      const double r = std::sqrt(r2);
+      u += pot.pair(r);
+      if (r < par.r_B) {
+        rho[i] += w(r);
+        rho[j] += w(r);
+      }
+    }
+  for (int i = 0; i < n; ++i) u += pot.many_body(rho[i]);
+  return u;
+}
+
+template <int D>
+void check_conservative_gradient(NeighborListKind kind) {
+  using Exec = Kokkos::DefaultExecutionSpace;
+  MdpdParameters par;
+  par.R = 0;  // conservative forces only
+  if (D == 2) par.B = 30;
+  const double L = 3.0;
+  const int n = D == 2 ? 54 : 162;  // ρ = 6
+  auto sys = random_system<D, double, Exec>(par, L, n, 5, kind);
+  auto energy = [&] {
+    sys.begin();
+    const auto x = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sys.particles.x);
+    return conservative_energy<D>(x, par, L);
+  };
+  const auto c = testing::check_gradient(sys.particles, energy, 1e-6);
+  EXPECT_GT(c.max_force, 1.0);
+  EXPECT_LT(c.max_error, 1e-6) << "max |F_fd - F| / max |F|, " << D << "D";
+}
+
+TEST(MdpdConservativeForce, IsMinusTheGradientOfItsPotential3D) {
+  check_conservative_gradient<3>(NeighborListKind::half);
+  check_conservative_gradient<3>(NeighborListKind::full);
+}
+TEST(MdpdConservativeForce, IsMinusTheGradientOfItsPotential2D) {
+  check_conservative_gradient<2>(NeighborListKind::half);
+  check_conservative_gradient<2>(NeighborListKind::full);
+}
+
+// ∫ w_ρ dV = 1 for the normalized weight (2D and 3D); the Lucy weight too, and its self term is
+// w(0) = 105/(16π h³) (3D), 5/(π h²) (2D), LAMMPS' pair_mdpd_rhosum.cpp.
+TEST(MdpdDensityWeight, IntegratesToOne) {
+  const double h = 0.75, pi = 3.14159265358979323846;
+  for (auto kernel : {mdpd::DensityKernel::normalized, mdpd::DensityKernel::lucy}) {
+    const mdpd::DensityWeight<3, double> w3(kernel, h);
+    const mdpd::DensityWeight<2, double> w2(kernel, h);
+    double i3 = 0, i2 = 0;
+    const int m = 200000;
+    for (int k = 0; k < m; ++k) {
+      const double r = (k + 0.5) * h / m;
+      i3 += 4 * pi * r * r * w3(r) * h / m;
+      i2 += 2 * pi * r * w2(r) * h / m;
+    }
+    EXPECT_NEAR(i3, 1.0, 1e-9);
+    EXPECT_NEAR(i2, 1.0, 1e-9);
+  }
+  using Weight3 = mdpd::DensityWeight<3, double>;
+  using Weight2 = mdpd::DensityWeight<2, double>;
+  EXPECT_NEAR(Weight3(mdpd::DensityKernel::lucy, h).self, 105 / (16 * pi * h * h * h), 1e-12);
+  EXPECT_NEAR(Weight2(mdpd::DensityKernel::lucy, h).self, 5 / (pi * h * h), 1e-12);
+  EXPECT_EQ(Weight3(mdpd::DensityKernel::normalized, h).self, 0.0);
+}
+
+template <class T>
+class MdpdPairTest : public ::testing::Test {};
+TYPED_TEST_SUITE(MdpdPairTest, testing::BackendsAndPrecisions);
+
+// Σ_i F_i = 0 with conservative, dissipative, random and WCA core forces on (tethers off: they are
+// external), relative to Σ|F|: 64 ε.
+TYPED_TEST(MdpdPairTest, NewtonsThirdLawToRoundOff) {
+  using Exec = typename TypeParam::exec;
+  using Real = typename TypeParam::real;
+  for (auto kind : {NeighborListKind::half, NeighborListKind::full}) {
+    MdpdParameters par;
+    auto sys = random_system<3, Real, Exec>(par, 4.0, 384, 7, kind, 0.0);
+    auto type = Kokkos::create_mirror_view(sys.particles.type);
+    for (int i = 0; i < 384; ++i) type(i) = i % 5 == 0 ? mdpd::particle_type::solid_core : (i % 5 == 1 ? 1 : 0);
+    Kokkos::deep_copy(sys.particles.type, type);
+    sys.begin();
+    ASSERT_TRUE(sys.has_core());
+    const auto f = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sys.particles.f);
+    double sum[3] = {0, 0, 0}, magnitude = 0;
+    for (int i = 0; i < 384; ++i)
+      for (int d = 0; d < 3; ++d) {
+        sum[d] += double(f(i, d));
+        magnitude += std::abs(double(f(i, d)));
+      }
+    for (int d = 0; d < 3; ++d) EXPECT_LT(std::abs(sum[d]), 64 * testing::eps<Real>() * magnitude) << d;
+  }
+}
+
+// Half and full lists: same densities and forces (the noise is keyed on the pair, not the list).
+TYPED_TEST(MdpdPairTest, HalfAndFullListsAgree) {
+  using Exec = typename TypeParam::exec;
+  using Real = typename TypeParam::real;
+  MdpdParameters par;
+  auto half = random_system<2, Real, Exec>(par, 5.0, 150, 3, NeighborListKind::half);
+  auto full = random_system<2, Real, Exec>(par, 5.0, 150, 3, NeighborListKind::full);
+  half.begin();
+  full.begin();
+  const auto fh = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), half.particles.f);
+  const auto ff = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), full.particles.f);
+  const auto rh = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), half.rho);
+  const auto rf = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), full.rho);
+  double scale = 0;
+  for (int i = 0; i < 150; ++i)
+    for (int d = 0; d < 2; ++d) scale = std::max(scale, std::abs(double(ff(i, d))));
+  for (int i = 0; i < 150; ++i) {
+    EXPECT_NEAR(double(rh(i)), double(rf(i)), 64 * testing::eps<Real>() * 10) << i;
+    for (int d = 0; d < 2; ++d) EXPECT_NEAR(double(fh(i, d)), double(ff(i, d)), 256 * testing::eps<Real>() * scale) << i;
+  }
+}
+
+// Two particles: the random force is equal and opposite, changes from step to step, and the same
+// seed and step reproduce it; its variance matches R² w_R²/dt · (one uniform variable of variance 1).
+TEST(MdpdRandomForce, PairwiseSymmetricAndUnitVariance) {
+  MdpdParameters par;
+  const mdpd::DissipativeRandomForce<double> thermo(par, 11);
+  const double r = 0.4, w = 1 - r;
+  double sum = 0, sum2 = 0;
+  const int m = 200000;
+  for (int s = 0; s < m; ++s) {
+    const double a = thermo.magnitude(r, 0.0, std::uint64_t(s), 3, 8);
+    EXPECT_EQ(a, thermo.magnitude(r, 0.0, std::uint64_t(s), 8, 3));
+    sum += a;
+    sum2 += a * a;
+  }
+  const double mean = sum / m, var = sum2 / m - mean * mean;
+  const double expected = par.R * par.R * w * w / par.dt;
+  EXPECT_NEAR(mean, 0.0, 5 * std::sqrt(expected / m));
+  EXPECT_NEAR(var / expected, 1.0, 0.01);  // standard error of the variance of a uniform: 0.0017
+  // The dissipative part: −D w² (v·r̂) with D = R²/(2kT) = 72.
+  EXPECT_NEAR(thermo.magnitude(r, 1.0, 0, 3, 8) - thermo.magnitude(r, 0.0, 0, 3, 8), -72 * w * w, 1e-12);
+}
+
+// The single-draw pair noise is the first number of the general pair stream.
+TEST(MdpdRandomForce, SingleDrawMatchesPairStream) {
+  for (std::uint32_t i = 0; i < 50; ++i) {
+    auto s = pair_stream(77, 1234567890123ull, i, 1000 - i);
+    EXPECT_EQ(pair_uniform_symmetric<double>(77, 1234567890123ull, i, 1000 - i), s.uniform_symmetric<double>());
+    auto t = pair_stream(77, 5, 1000 - i, i);
+    EXPECT_EQ(pair_uniform_symmetric<float>(77, 5, i, 1000 - i), t.uniform_symmetric<float>());
+  }
+}
+
+// R = 0 compiles the thermostat out: forces do not depend on velocities.
+TEST(MdpdPairForce, ZeroThermostatCoefficientsRemoveTheTerm) {
+  using Exec = Kokkos::DefaultExecutionSpace;
+  MdpdParameters par;
+  par.R = 0;
+  auto a = random_system<3, double, Exec>(par, 3.0, 162, 2, NeighborListKind::half);
+  a.begin();
+  const auto f0 = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), a.particles.f);
+  Kokkos::deep_copy(a.particles.v, 5.0);
+  a.begin();
+  const auto f1 = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), a.particles.f);
+  for (int i = 0; i < 162; ++i)
+    for (int d = 0; d < 3; ++d) EXPECT_EQ(f0(i, d), f1(i, d));
+}
+
+// Lucy density of LAMMPS' mdpd/rhosum: a pair at r = h/2 in 3D gives ρ = w(0) + w(h/2),
+// w(r) = 105/(16π h³)(1 + 3r/h)(1 − r/h)³.
+TEST(MdpdDensityWeight, LucyPairDensityMatchesLammpsFormula) {
+  using Exec = Kokkos::DefaultExecutionSpace;
+  MdpdParameters par;
+  par.density_kernel = mdpd::DensityKernel::lucy;
+  par.R = 0;
+  mdpd::MdpdOptions opt;
+  opt.sort_every = 0;
+  MdpdSystem<3, double, Exec> sys(par, Box<3, double>::cube(4.0, true), 1, opt);
+  sys.allocate(2);
+  auto x = Kokkos::create_mirror_view(sys.particles.x);
+  x(0, 0) = 1.0;
+  x(1, 0) = 1.0 + 0.375;
+  Kokkos::deep_copy(sys.particles.x, x);
+  sys.begin();
+  const auto rho = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sys.rho);
+  const double pi = 3.14159265358979323846, h = 0.75, c = 105 / (16 * pi * h * h * h);
+  const double expected = c + c * (1 + 1.5) * 0.125;
+  EXPECT_NEAR(rho(0), expected, 1e-12);
+  EXPECT_NEAR(rho(1), expected, 1e-12);
+}
+
+TEST(MdpdParameters, BadInputNamesTheParameter) {
+  MdpdParameters par;
+  par.r_B = 1.5;
+  try {
+    par.validate();
+    FAIL() << "r_B > r_A accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("r_B must be in (0, r_A"), std::string::npos) << e.what();
+  }
+  par = MdpdParameters();
+  par.dt = std::nan("");
+  EXPECT_THROW(par.validate(), std::invalid_argument);
+  EXPECT_THROW(mdpd::parse_density_kernel("gaussian"), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace mesoflow
