@@ -3,8 +3,8 @@
 // items_per_second = particle-steps/s; a step is everything MdpdSystem::step does: half kick and
 // drift, neighbor-list upkeep (skin criterion, periodic memory sort), many-body densities, fused
 // conservative + dissipative + random forces, second half kick.
-//   BM_MdpdStep<3, double, half>/100000: target 2·10⁶/s at 2 threads (LAMMPS 1.0·10⁶ here);
-//   BM_MdpdStep<2, double, half>/100000: target 4·10⁶/s.
+//   BM_MdpdStep<3, double, half>/100000/20/2: target 2·10⁶/s at 2 threads (LAMMPS 1.0·10⁶ here);
+//   BM_MdpdStep<2, double, half>/100000/20/2: target 4·10⁶/s.
 // The `full` variants run the same physics on a full neighbor list (no scatter, two random
 // numbers per pair); float variants show what single precision buys. The third argument is the
 // neighbor skin in units of 0.01σ, the fourth cells per reach of the list's binning.
@@ -59,12 +59,13 @@ void BM_MdpdStep(benchmark::State& state) {
 constexpr auto half = NeighborListKind::half;
 constexpr auto full = NeighborListKind::full;
 
-BENCHMARK_TEMPLATE(BM_MdpdStep, 3, double, half)->Args({100000, 30, 1})->Args({100000, 30, 2})->Args({100000, 20, 2})->Args({100000, 40, 2})->UseManualTime()->Unit(benchmark::kMillisecond);
-BENCHMARK_TEMPLATE(BM_MdpdStep, 3, double, full)->Args({100000, 30, 2})->UseManualTime()->Unit(benchmark::kMillisecond);
-BENCHMARK_TEMPLATE(BM_MdpdStep, 3, float, half)->Args({100000, 30, 2})->UseManualTime()->Unit(benchmark::kMillisecond);
-BENCHMARK_TEMPLATE(BM_MdpdStep, 2, double, half)->Args({100000, 30, 1})->Args({100000, 30, 2})->UseManualTime()->Unit(benchmark::kMillisecond);
-BENCHMARK_TEMPLATE(BM_MdpdStep, 2, double, full)->Args({100000, 30, 2})->UseManualTime()->Unit(benchmark::kMillisecond);
-BENCHMARK_TEMPLATE(BM_MdpdStep, 2, float, half)->Args({100000, 30, 2})->UseManualTime()->Unit(benchmark::kMillisecond);
+// Defaults of MdpdOptions (skin 0.2σ, 2 cells per reach) first; then the skin and binning choices.
+BENCHMARK_TEMPLATE(BM_MdpdStep, 3, double, half)->Args({100000, 20, 2})->Args({100000, 30, 2})->Args({100000, 20, 1})->UseManualTime()->Unit(benchmark::kMillisecond);
+BENCHMARK_TEMPLATE(BM_MdpdStep, 3, double, full)->Args({100000, 20, 2})->UseManualTime()->Unit(benchmark::kMillisecond);
+BENCHMARK_TEMPLATE(BM_MdpdStep, 3, float, half)->Args({100000, 20, 2})->UseManualTime()->Unit(benchmark::kMillisecond);
+BENCHMARK_TEMPLATE(BM_MdpdStep, 2, double, half)->Args({100000, 20, 2})->Args({100000, 30, 2})->UseManualTime()->Unit(benchmark::kMillisecond);
+BENCHMARK_TEMPLATE(BM_MdpdStep, 2, double, full)->Args({100000, 20, 2})->UseManualTime()->Unit(benchmark::kMillisecond);
+BENCHMARK_TEMPLATE(BM_MdpdStep, 2, float, half)->Args({100000, 20, 2})->UseManualTime()->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace mesoflow

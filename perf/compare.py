@@ -22,6 +22,8 @@ TARGETS = [
     ("BM_HopperStepDP/", 5.0e6),                                       # issue 4: vertex-steps/s
     ("BM_MpcStep<2, double, at_plus_a>/600000/40/25/", 2.0e7),         # issue 5: particle-updates/s, sorted every 25 steps
     ("BM_MpcStep<3, double, srd>/1000000/10/25/", 5.0e7),
+    ("BM_MdpdStep<3, double, half>/100000/20/2/", 2.0e6),             # issue 6: particle-steps/s
+    ("BM_MdpdStep<2, double, half>/100000/20/2/", 4.0e6),
 ]
 # Benchmarks whose 2-thread rate must be at least this multiple of the 1-thread rate.
 SCALING = [("BM_NeighborListBuild<3, double, full>/1000000/1/0", 1.5)]

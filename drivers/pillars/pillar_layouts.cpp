@@ -262,7 +262,7 @@ void write_csv(const PillarLayout& layout, const std::string& path) {
 
 PillarLayout read_csv(const std::string& path) {
   std::ifstream in(path);
-  if (!in) throw std::runtime_error("read_csv: cannot open '" + path + "'");
+  if (!in) throw std::invalid_argument("read_csv: cannot open '" + path + "'");
   auto trim = [](const std::string& s) {
     const auto b = s.find_first_not_of(" \t\r"), e = s.find_last_not_of(" \t\r");
     return b == std::string::npos ? std::string() : s.substr(b, e - b + 1);
@@ -288,39 +288,39 @@ PillarLayout read_csv(const std::string& path) {
       const std::string key = trim(s.substr(1, eq - 1)), value = trim(s.substr(eq + 1));
       if (key != "Lx" && key != "Ly" && key != "d" && key != "porosity") continue;
       double v;
-      if (!number(value, v)) throw std::runtime_error(where + "'" + key + "' is not a number: '" + value + "'");
+      if (!number(value, v)) throw std::invalid_argument(where + "'" + key + "' is not a number: '" + value + "'");
       header[key] = v;
       continue;
     }
     const auto comma = s.find(',');
     double x = 0, y = 0;
     if (comma == std::string::npos || !number(trim(s.substr(0, comma)), x) || !number(trim(s.substr(comma + 1)), y))
-      throw std::runtime_error(where + "expected 'x,y' with two numbers, got '" + s + "'");
+      throw std::invalid_argument(where + "expected 'x,y' with two numbers, got '" + s + "'");
     layout.centres.push_back({x, y});
   }
   const std::string f = "read_csv: " + path + ": ";
   for (const char* key : {"Lx", "Ly"})
     if (!header.count(key) || !(header[key] > 0))
-      throw std::runtime_error(f + "needs a header line '# " + key + " = <value > 0>'");
-  if (layout.centres.empty()) throw std::runtime_error(f + "no pillar centres");
+      throw std::invalid_argument(f + "needs a header line '# " + key + " = <value > 0>'");
+  if (layout.centres.empty()) throw std::invalid_argument(f + "no pillar centres");
   layout.length_x = header["Lx"];
   layout.length_y = header["Ly"];
   for (auto& c : layout.centres) c = {wrap(c[0], layout.length_x), wrap(c[1], layout.length_y)};
   const bool has_d = header.count("d") != 0, has_eps = header.count("porosity") != 0;
   if (has_eps && !(header["porosity"] > 0 && header["porosity"] < 1))
-    throw std::runtime_error(f + "porosity must be in (0, 1), got " + str(header["porosity"]));
+    throw std::invalid_argument(f + "porosity must be in (0, 1), got " + str(header["porosity"]));
   if (has_d) {
-    if (!(header["d"] > 0)) throw std::runtime_error(f + "d must be > 0, got " + str(header["d"]));
+    if (!(header["d"] > 0)) throw std::invalid_argument(f + "d must be > 0, got " + str(header["d"]));
     layout.diameter = header["d"];
     if (has_eps && std::abs(layout.porosity() - header["porosity"]) > 1e-9)
-      throw std::runtime_error(f + "'# porosity = " + str(header["porosity"]) + "' disagrees with the " +
+      throw std::invalid_argument(f + "'# porosity = " + str(header["porosity"]) + "' disagrees with the " +
                                str(layout.porosity()) + " given by Lx, Ly, d and the " +
                                std::to_string(layout.centres.size()) + " centres");
   } else if (has_eps) {
     layout.diameter = std::sqrt(4.0 * (1.0 - header["porosity"]) * layout.length_x * layout.length_y /
                                 (double(layout.centres.size()) * pi));
   } else {
-    throw std::runtime_error(f + "needs '# d = <diameter>' or '# porosity = <porosity>'");
+    throw std::invalid_argument(f + "needs '# d = <diameter>' or '# porosity = <porosity>'");
   }
   return layout;
 }

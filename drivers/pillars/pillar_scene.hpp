@@ -127,11 +127,13 @@ int carve_solids(mdpd::MdpdSystem<D, Real, Exec>& sys, const SceneGeometry& g) {
 struct FlowSample {
   std::vector<double> count, velocity, pillar_force;
   double wall_force_bottom = 0, wall_force_top = 0, pillar_tether = 0;
+  double driven_fluid = 0;  // fluid particles in the driving region
 };
 
 template <int D, class Real, class Exec>
 FlowSample sample_flow(const mdpd::MdpdSystem<D, Real, Exec>& sys, const SceneGeometry& g,
                        const Kokkos::View<double*, Exec>& pillar_x, double x_lo, double x_hi, int bins) {
+  const auto region = sys.driving_region();
   if (bins < 1 || bins > max_profile_bins)
     throw std::invalid_argument("profile bins must be in [1, " + std::to_string(max_profile_bins) + "]");
   constexpr int NB = max_profile_bins;
@@ -146,9 +148,10 @@ FlowSample sample_flow(const mdpd::MdpdSystem<D, Real, Exec>& sys, const SceneGe
   const double width = x_hi - x_lo;
   const double bin_width = walls ? H / bins : 1.0;
   const double k_tether = sys.has_solids() ? sys.options().k_S : 0.0;
-  const auto sums = parallel_sum<3 * NB + 3, Exec>(
-      "mesoflow::pillars::sample_flow", int(sys.particles.size()), KOKKOS_LAMBDA(int i, double(&acc)[3 * NB + 3]) {
+  const auto sums = parallel_sum<3 * NB + 4, Exec>(
+      "mesoflow::pillars::sample_flow", int(sys.particles.size()), KOKKOS_LAMBDA(int i, double(&acc)[3 * NB + 4]) {
         const bool fluid = type(i) == mdpd::particle_type::fluid;
+        if (fluid && region.contains(x(i, 0), Real(Lx))) acc[3 * NB + 3] += 1.0;
         const bool pillar = !fluid && body(i) >= 0;
         const double xi = fluid ? double(x(i, 0)) : (pillar ? pillar_x(body(i)) : double(site(i, 0)));
         double s = xi - x_lo;
@@ -179,6 +182,7 @@ FlowSample sample_flow(const mdpd::MdpdSystem<D, Real, Exec>& sys, const SceneGe
   out.wall_force_bottom = sums[3 * NB];
   out.wall_force_top = sums[3 * NB + 1];
   out.pillar_tether = sums[3 * NB + 2];
+  out.driven_fluid = sums[3 * NB + 3];
   return out;
 }
 

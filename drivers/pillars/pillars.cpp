@@ -10,15 +10,19 @@
 // the fluid in the region x ∈ [0, L_d). After --warmup-steps, every --sample-every steps over
 // --steps the driver samples the fluid velocity in the measurement region (the middle half of the
 // rest of the box, away from in- and out-flow) and the force of the fluid on the solids there.
-//   Darcy (eqs. 1-2): Δp = f_b ρ L_d over the box length L_x, U_s = ε⟨u_x⟩,
-//     κ = μ U_s L_x / (f_b ρ L_d)  (κ_p without walls, κ_eff with walls).
-//   Drag (eq. 3): F_d per pillar and unit length, κ_p = π μ U_s d² / (4 φ F_d), i.e.
-//     κ_p = μ U_s V_m / F_m with F_m the x-force of the fluid on the pillar particles of the
-//     measurement region of volume V_m — from the pair forces (the paper's estimator) and from the
-//     pillars' tethers, which balance it on average with far less noise.
+//   Darcy (eqs. 1-2): U_s = ε⟨u_x⟩ and κ = μ U_s L_x / Δp (κ_p without walls, κ_eff with walls),
+//     for two Δp: the paper's nominal f_b ρ L_d (JSON kappa_darcy_nominal_dp) and the force balance
+//     f_b N_d / (ε A_⊥) with the fluid particles N_d actually in the driving region (kappa_darcy;
+//     the two differ where the driving slab cuts pillars unevenly, by up to 10% in small cells).
+//   Drag (eq. 3): F_d per pillar and unit length, κ_p = π μ U_s d² / (4 φ F_d), F_d = F_m/(n_m h)
+//     with F_m the x-force of the fluid on the n_m pillars whose axes lie in the measurement region
+//     (height h) — from the pair forces (the paper's estimator) and from the pillars' tethers,
+//     which balance it on average with far less noise.
 //   Walls (3D): the superficial velocity u_s(z) = ε⟨u_x⟩_z, fitted with Brinkman's eq. (5) for B
 //     and α; with --kappa-p (from the matching 2D run), μ_eff/μ = 1/(κ_p α²), eq. (7)'s κ_eff and
 //     B's theory value κ_p Δp/(μ L_x). Without pillars (--layout none) the run checks κ_w = H²/12.
+// --mode theory: the square- and hexagonal-array permeability curves over ε (<out>_theory.csv) and
+//   Sangani & Acrivos' exact square-array values (<out>_sangani_acrivos_table.csv).
 // --mode viscosity: periodic Poiseuille (region_body_force.hpp) in a periodic box; the two
 //   parabolas of u_x(z) give η (Backer et al. 2005).
 //
@@ -187,7 +191,8 @@ void run_flow(const Parameters& par, const cli::DriverApp& app) {
     progress.update(s + 1);
   }
   std::vector<double> count(bins, 0), velocity(bins, 0), pillar_force(bins, 0);
-  double wall_bottom = 0, wall_top = 0, tether = 0, sum_u = 0, sum_u2 = 0;
+  double wall_bottom = 0, wall_top = 0, tether = 0, sum_u = 0, sum_u2 = 0, driven = 0;
+  std::vector<double> sample_u, sample_tether;  // per sample, for block-averaged errors
   long long samples = 0;
   for (long long s = 0; s < par.steps; ++s) {
     const bool sample = (s + 1) % par.sample_every == 0;
@@ -205,7 +210,10 @@ void run_flow(const Parameters& par, const cli::DriverApp& app) {
       wall_bottom += fs.wall_force_bottom;
       wall_top += fs.wall_force_top;
       tether += fs.pillar_tether;
+      driven += fs.driven_fluid;
       const double mean_u = c > 0 ? u / c : 0.0;
+      sample_u.push_back(mean_u);
+      sample_tether.push_back(-fs.pillar_tether);
       sum_u += mean_u;
       sum_u2 += mean_u * mean_u;
       ++samples;
@@ -230,17 +238,51 @@ void run_flow(const Parameters& par, const cli::DriverApp& app) {
     f_sum += pillar_force[b];
   }
   const double mean_u = u_sum / n_fluid;
+  // Standard error from 10 block means (samples within a block are correlated; blocks of ≥ 100τ
+  // in the documented runs are not).
+  auto block_error = [](const std::vector<double>& x) {
+    const int blocks = 10;
+    const std::size_t per = x.size() / blocks;
+    if (per == 0) return 0.0;
+    double m = 0, m2 = 0;
+    for (int b = 0; b < blocks; ++b) {
+      double s = 0;
+      for (std::size_t k = 0; k < per; ++k) s += x[b * per + k];
+      s /= double(per);
+      m += s;
+      m2 += s * s;
+    }
+    m /= blocks;
+    return std::sqrt(std::max(0.0, m2 / blocks - m * m) / (blocks - 1));
+  };
+  const double mean_u_block_error = block_error(sample_u);
+  const double tether_block_error = block_error(sample_tether);
   const double mean_u_error = std::sqrt(std::max(0.0, sum_u2 / samples - (sum_u / samples) * (sum_u / samples)) /
                                         double(samples));  // naive: samples treated as independent
   const double U_s = porosity * mean_u;
-  const double delta_p = fb * par.density * par.driving_length;
-  const double kappa_darcy = mu * U_s * g.Lx / delta_p;
+  // Δp: the paper's nominal f_b ρ L_d, and the one the applied force actually imposes, f_b N_d over
+  // the fluid's share ε A_⊥ of the cross-section (N_d: fluid particles in the driving region, fewer
+  // than ρ ε V_d where the fluid thins next to walls and pillars). κ uses the latter.
   const double height = D == 3 ? (g.walls() ? g.H : g.Lz) : 1.0;
-  const double volume_m = (x_hi - x_lo) * g.Ly * height;
+  const double delta_p_nominal = fb * par.density * par.driving_length;
+  const double delta_p = fb * (driven / double(samples)) / (porosity * g.Ly * height);
+  const double kappa_darcy = mu * U_s * g.Lx / delta_p;
   const double F_pair = f_sum / double(samples), F_tether = -tether / double(samples);
   const bool has_pillars = !g.centres.empty();
-  const double kappa_drag_pair = has_pillars && F_pair != 0 ? mu * U_s * volume_m / F_pair : 0.0;
-  const double kappa_drag_tether = has_pillars && F_tether != 0 ? mu * U_s * volume_m / F_tether : 0.0;
+  // Eq. (3) per pillar: F_d = F_m / (n_m × height), n_m the pillars with axes in the region.
+  int n_m = 0;
+  for (const auto& c : g.centres) {
+    double s = c[0] - x_lo;
+    s -= g.Lx * std::floor(s / g.Lx);
+    n_m += s < x_hi - x_lo;
+  }
+  const double phi = 1 - porosity;
+  auto kappa_eq3 = [&](double F_m) {
+    return has_pillars && n_m > 0 && F_m != 0 ? pi * mu * U_s * g.diameter * g.diameter / (4 * phi * F_m / (n_m * height))
+                                             : 0.0;
+  };
+  const double kappa_drag_pair = kappa_eq3(F_pair);
+  const double kappa_drag_tether = kappa_eq3(F_tether);
 
   // Elevation profile and Brinkman fit (3D with walls).
   std::vector<double> z(bins), u_s(bins), fp(bins);
@@ -274,9 +316,12 @@ void run_flow(const Parameters& par, const cli::DriverApp& app) {
        << ",\n  \"diameter\": " << g.diameter << ",\n  \"box\": [" << g.Lx << ", " << g.Ly << ", " << g.Lz
        << "],\n  \"walls_height\": " << g.H << ",\n  \"particles\": " << sys.particles.size()
        << ",\n  \"solid_particles\": " << solids << ",\n  \"driving_force\": " << fb
-       << ",\n  \"pressure_difference\": " << delta_p << ",\n  \"viscosity_used\": " << mu
+       << ",\n  \"pressure_difference\": " << delta_p << ",\n  \"pressure_difference_nominal\": " << delta_p_nominal << ",\n  \"kappa_darcy_nominal_dp\": " << mu * U_s * g.Lx / delta_p_nominal << ",\n  \"viscosity_used\": " << mu
        << ",\n  \"samples\": " << samples << ",\n  \"mean_ux\": " << mean_u
-       << ",\n  \"mean_ux_naive_error\": " << mean_u_error << ",\n  \"superficial_velocity\": " << U_s
+       << ",\n  \"mean_ux_naive_error\": " << mean_u_error << ",\n  \"mean_ux_block_error\": " << mean_u_block_error
+       << ",\n  \"kappa_darcy_relative_error\": " << mean_u_block_error / std::abs(mean_u)
+       << ",\n  \"kappa_drag_tether_relative_error\": "
+       << std::sqrt(std::pow(mean_u_block_error / mean_u, 2) + std::pow(tether_block_error / F_tether, 2)) << ",\n  \"superficial_velocity\": " << U_s
        << ",\n  \"kappa_darcy\": " << kappa_darcy << ",\n  \"kappa_darcy_over_d2\": "
        << kappa_darcy / (g.diameter * g.diameter) << ",\n  \"kappa_drag_pair\": " << kappa_drag_pair
        << ",\n  \"kappa_drag_tether\": " << kappa_drag_tether << ",\n  \"wall_force_bottom\": "
@@ -305,13 +350,34 @@ void run_flow(const Parameters& par, const cli::DriverApp& app) {
        << ",\n  \"kokkos\": \"" << kokkos_configuration() << "\"\n}\n";
   json.close();
   if (!quiet)
-    std::cerr << "pillars: U_s = " << U_s << " ± " << porosity * mean_u_error << ", kappa_darcy/d^2 = "
+    std::cerr << "pillars: U_s = " << U_s << " ± " << porosity * mean_u_block_error << ", kappa_darcy/d^2 = "
               << kappa_darcy / (g.diameter * g.diameter) << ", kappa_drag (pair, tether)/d^2 = "
               << kappa_drag_pair / (g.diameter * g.diameter) << ", " << kappa_drag_tether / (g.diameter * g.diameter)
               << "\n";
   if (g.walls())
     driver::plot_with_matplotlib("pillars", "plot_pillars.py", {stem + "_profile.csv", out.summary, stem + ".png"}, stem + ".png",
                                  quiet);
+}
+
+// The square-array theory curves of Fig. 7(b) (and the hexagonal ones) over ε, as CSV.
+void write_theory_table(const cli::DriverApp& app) {
+  const driver::OutputPaths out(app.output());
+  const std::string path = out.trajectory.substr(0, out.trajectory.size() - 3) + "_theory.csv";
+  std::ofstream csv(path);
+  csv << "porosity,gebart_square,drummond_tahir_square,sangani_acrivos_dilute,sangani_acrivos_dense,"
+         "tsay_weinbaum_fit,gebart_hexagonal,drummond_tahir_hexagonal\n"
+      << std::setprecision(8);
+  for (int k = 0; k <= 118; ++k) {  // ε = 0.40 … 0.99
+    const double eps = 0.4 + 0.005 * k;
+    csv << eps << "," << pillars::kappa_gebart_square(eps) << "," << pillars::kappa_drummond_tahir_square(eps) << ","
+        << pillars::kappa_sangani_acrivos_dilute(eps) << "," << pillars::kappa_sangani_acrivos_dense(eps) << ","
+        << pillars::kappa_tsay_weinbaum_fit(eps) << "," << pillars::kappa_gebart_hexagonal(eps) << ","
+        << pillars::kappa_drummond_tahir_hexagonal(eps) << "\n";
+  }
+  std::ofstream table(out.trajectory.substr(0, out.trajectory.size() - 3) + "_sangani_acrivos_table.csv");
+  table << "porosity,kappa_over_d2\n" << std::setprecision(8);
+  for (const auto& row : pillars::sangani_acrivos_square_table()) table << row[0] << "," << row[1] << "\n";
+  if (!app.quiet()) std::cerr << "pillars: wrote " << path << "\n";
 }
 
 // Periodic Poiseuille viscosity (Backer et al. 2005) in a fully periodic box.
@@ -453,8 +519,9 @@ int main(int argc, char** argv) {
   mesoflow::Parameters par;
   mesoflow::cli::DriverApp app("MDPD flow through pillar arrays: permeability, Brinkman fits, viscosity (Soft Matter 19, 436)",
                                "pillars.h5");
-  app.add_choice("--mode", par.mode, "flow through pillars, or the fluid's viscosity (periodic Poiseuille)",
-                 {"flow", "viscosity"});
+  app.add_choice("--mode", par.mode,
+                 "flow through pillars, the fluid's viscosity (periodic Poiseuille), or the theory curves (CSV)",
+                 {"flow", "viscosity", "theory"});
   app.add_int("--dimension", par.dimension, "2 (pillars only) or 3", 2, 3);
   app.add_choice("--layout", par.layout, "pillar arrangement",
                  {"square", "rotated-square", "hexagonal", "irregular", "file", "none"});
@@ -492,7 +559,9 @@ int main(int argc, char** argv) {
   app.add_int("--threads", par.threads, "host threads (0: OMP_NUM_THREADS or all cores)", 0, 4096);
   return app.run(argc, argv, [&] {
     mesoflow::KokkosScope kokkos(par.threads);
-    if (par.mode == "viscosity")
+    if (par.mode == "theory")
+      mesoflow::write_theory_table(app);
+    else if (par.mode == "viscosity")
       par.dimension == 2 ? mesoflow::run_viscosity<2>(par, app) : mesoflow::run_viscosity<3>(par, app);
     else
       par.dimension == 2 ? mesoflow::run_flow<2>(par, app) : mesoflow::run_flow<3>(par, app);
