@@ -75,6 +75,32 @@ struct Parameters {
 
 constexpr double pi = 3.14159265358979323846;
 
+// The paper's fluid (§2.5.1) with the command line's overrides; B defaults to 25 in 3D, 30 in 2D.
+mdpd::MdpdParameters fluid_parameters(const Parameters& par, int dim) {
+  mdpd::MdpdParameters mp;
+  mp.A = par.A;
+  mp.B = par.B >= 0 ? par.B : (dim == 2 ? 30.0 : 25.0);
+  mp.r_B = par.r_B;
+  mp.R = par.R;
+  mp.dt = par.dt;
+  mp.density_kernel = mdpd::parse_density_kernel(par.density_kernel);
+  mp.validate();
+  return mp;
+}
+
+// The scene's box, periodic on every axis (walls are a solid slab, pillar_scene.hpp).
+template <int D>
+Box<D, double> periodic_box(const pillars::SceneGeometry& g) {
+  double lo[D] = {}, len[D];
+  bool periodic[D];
+  const double edges[3] = {g.Lx, g.Ly, g.Lz};
+  for (int d = 0; d < D; ++d) {
+    len[d] = edges[d];
+    periodic[d] = true;
+  }
+  return Box<D, double>(lo, len, periodic);
+}
+
 pillars::PillarLayout make_layout(const Parameters& par) {
   if (par.layout == "none") return {0, 0, par.diameter, {}};
   if (par.layout == "file") {
@@ -96,14 +122,7 @@ void run_flow(const Parameters& par, const cli::DriverApp& app) {
   const std::string stem = out.trajectory.substr(0, out.trajectory.size() - 3);
   const bool quiet = app.quiet();
 
-  mdpd::MdpdParameters mp;
-  mp.A = par.A;
-  mp.B = par.B >= 0 ? par.B : (D == 2 ? 30.0 : 25.0);
-  mp.r_B = par.r_B;
-  mp.R = par.R;
-  mp.dt = par.dt;
-  mp.density_kernel = mdpd::parse_density_kernel(par.density_kernel);
-  mp.validate();
+  const mdpd::MdpdParameters mp = fluid_parameters(par, D);
   const double mu = par.viscosity > 0 ? par.viscosity : (D == 2 ? 26.1 : 17.5);
   const double fb = par.fb >= 0 ? par.fb : (D == 2 ? 0.2 : 0.3);
 
@@ -127,14 +146,7 @@ void run_flow(const Parameters& par, const cli::DriverApp& app) {
   if (g.Lx < 2 * reach || g.Ly < 2 * reach || (D == 3 && g.Lz < 2 * reach))
     throw std::invalid_argument("box edges must be at least 2.4σ (twice the neighbor reach)");
 
-  Real lo[D] = {}, len[D];
-  bool periodic[D];
-  const double L3[3] = {g.Lx, g.Ly, g.Lz};
-  for (int d = 0; d < D; ++d) {
-    len[d] = Real(L3[d]);
-    periodic[d] = true;
-  }
-  const Box<D, Real> box(lo, len, periodic);
+  const auto box = periodic_box<D>(g);
   mdpd::MdpdOptions opt;
   opt.k_S = par.k_S;
   opt.list_kind = par.list == "full" ? NeighborListKind::full : NeighborListKind::half;
@@ -389,14 +401,7 @@ void run_viscosity(const Parameters& par, const cli::DriverApp& app) {
   using Exec = Kokkos::DefaultExecutionSpace;
   const driver::OutputPaths out(app.output());
   const std::string stem = out.trajectory.substr(0, out.trajectory.size() - 3);
-  mdpd::MdpdParameters mp;
-  mp.A = par.A;
-  mp.B = par.B >= 0 ? par.B : (D == 2 ? 30.0 : 25.0);
-  mp.r_B = par.r_B;
-  mp.R = par.R;
-  mp.dt = par.dt;
-  mp.density_kernel = mdpd::parse_density_kernel(par.density_kernel);
-  mp.validate();
+  const mdpd::MdpdParameters mp = fluid_parameters(par, D);
   const double g_force = par.fb >= 0 ? par.fb : 0.5;
   pillars::SceneGeometry geometry;
   geometry.dim = D;
@@ -404,15 +409,9 @@ void run_viscosity(const Parameters& par, const cli::DriverApp& app) {
   geometry.Ly = D == 3 ? par.box : par.lz;
   geometry.Lz = D == 3 ? par.lz : 0.0;
   const double Lzz = D == 3 ? geometry.Lz : geometry.Ly;
-  Real lo[D] = {}, len[D];
-  bool periodic[D];
-  const double L3[3] = {geometry.Lx, geometry.Ly, geometry.Lz};
-  for (int d = 0; d < D; ++d) {
-    len[d] = Real(L3[d]);
-    periodic[d] = true;
-  }
+
   if (par.box < 2.4 || Lzz < 4.8) throw std::invalid_argument("--box must be >= 2.4 and --lz >= 4.8 (σ)");
-  const Box<D, Real> box(lo, len, periodic);
+  const auto box = periodic_box<D>(geometry);
   mdpd::MdpdOptions opt;
   opt.list_kind = par.list == "full" ? NeighborListKind::full : NeighborListKind::half;
   mdpd::MdpdSystem<D, Real, Exec> sys(mp, box, std::uint64_t(par.seed), opt);
