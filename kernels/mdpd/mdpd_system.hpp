@@ -35,7 +35,6 @@ struct MdpdOptions {
   double skin = 0.2;         // bench_mdpd: 0.2σ beats 0.3σ and 0.4σ at ρ = 6
   int cells_per_reach = 2;   // neighbor-list binning (neighbor_list.hpp)
   int sort_every = 20;    // rebuilds between memory reorderings; 0: never
-  double lambda = 0.5;     // velocity prediction of the dissipative force (velocity_verlet.hpp)
   double k_S = 12.5;      // tether stiffness of solid particles (ε/σ²)
   double wca_epsilon = 1.0, wca_sigma = 1.0;
 };
@@ -55,7 +54,7 @@ class MdpdSystem {
         density_(DensityWeight<D, Real>(par.density_kernel, Real(par.r_B))),
         pair_(par, seed, Real(opt.wca_epsilon), Real(opt.wca_sigma)),
         tether_(Real(opt.k_S)),
-        integrator_(Real(par.dt), Real(opt.lambda)) {
+        integrator_(Real(par.dt)) {
     if (!(opt.skin >= 0 && opt.skin <= 2))
       throw std::invalid_argument("mdpd: neighbor skin must be in [0, 2] σ, got " + std::to_string(opt.skin));
     if (opt.sort_every < 0)
