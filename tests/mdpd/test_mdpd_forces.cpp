@@ -239,6 +239,44 @@ TEST(MdpdDensityWeight, LucyPairDensityMatchesLammpsFormula) {
   EXPECT_NEAR(rho(1), expected, 1e-12);
 }
 
+// Tethers: F = −k_S (x − s) is minus the gradient of ½ k_S |x − s|² (minimum image across the
+// periodic boundary included), for solid particles only.
+TEST(MdpdTetherSprings, ForceIsMinusTheGradientOfTheEnergy) {
+  using Exec = Kokkos::DefaultExecutionSpace;
+  const auto box = Box<3, double>::cube(4.0, true);
+  Particles<3, double, Exec> p(20);
+  typename Particles<3, double, Exec>::vector_view site("site", 20);
+  std::mt19937 gen(3);
+  std::uniform_real_distribution<double> u(0.0, 4.0), shift(-0.6, 0.6);
+  auto x = Kokkos::create_mirror_view(p.x);
+  auto s = Kokkos::create_mirror_view(site);
+  auto type = Kokkos::create_mirror_view(p.type);
+  for (int i = 0; i < 20; ++i) {
+    for (int d = 0; d < 3; ++d) {
+      s(i, d) = u(gen);
+      x(i, d) = s(i, d) + shift(gen);  // some cross the periodic boundary
+    }
+    type(i) = i % 4 == 0 ? mdpd::particle_type::fluid : (i % 2 ? mdpd::particle_type::solid : mdpd::particle_type::solid_core);
+  }
+  Kokkos::deep_copy(p.x, x);
+  Kokkos::deep_copy(site, s);
+  Kokkos::deep_copy(p.type, type);
+  const mdpd::TetherSprings<3, double, Exec> tether(12.5);
+  auto energy = [&] {
+    p.zero_forces();
+    tether.accumulate(p, site, box);
+    return tether.energy(p, site, box);
+  };
+  const auto c = testing::check_gradient(p, energy, 1e-6);
+  EXPECT_GT(c.max_force, 1.0);
+  EXPECT_LT(c.max_error, 1e-8);
+  const auto f = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), p.f);
+  for (int i = 0; i < 20; i += 4)
+    for (int d = 0; d < 3; ++d) EXPECT_EQ(f(i, d), 0.0) << "fluid particle " << i << " has no tether";
+  using Tethers = mdpd::TetherSprings<3, double, Exec>;
+  EXPECT_THROW(Tethers(-1.0), std::invalid_argument);
+}
+
 TEST(MdpdParameters, BadInputNamesTheParameter) {
   MdpdParameters par;
   par.r_B = 1.5;
