@@ -60,10 +60,10 @@ constexpr auto half = NeighborListKind::half;
 constexpr auto full = NeighborListKind::full;
 
 // Defaults of MdpdOptions (skin 0.2σ, 2 cells per reach) first; then the skin and binning choices.
-BENCHMARK_TEMPLATE(BM_MdpdStep, 3, double, half)->Args({100000, 20, 2})->Args({100000, 30, 2})->Args({100000, 20, 1})->UseManualTime()->Unit(benchmark::kMillisecond);
+BENCHMARK_TEMPLATE(BM_MdpdStep, 3, double, half)->Args({100000, 20, 2})->Args({100000, 30, 2})->Args({100000, 20, 1})->Args({100000, 30, 1})->Args({100000, 40, 1})->UseManualTime()->Unit(benchmark::kMillisecond);
 BENCHMARK_TEMPLATE(BM_MdpdStep, 3, double, full)->Args({100000, 20, 2})->UseManualTime()->Unit(benchmark::kMillisecond);
 BENCHMARK_TEMPLATE(BM_MdpdStep, 3, float, half)->Args({100000, 20, 2})->UseManualTime()->Unit(benchmark::kMillisecond);
-BENCHMARK_TEMPLATE(BM_MdpdStep, 2, double, half)->Args({100000, 20, 2})->Args({100000, 30, 2})->UseManualTime()->Unit(benchmark::kMillisecond);
+BENCHMARK_TEMPLATE(BM_MdpdStep, 2, double, half)->Args({100000, 20, 2})->Args({100000, 30, 2})->Args({100000, 20, 1})->Args({100000, 30, 1})->UseManualTime()->Unit(benchmark::kMillisecond);
 BENCHMARK_TEMPLATE(BM_MdpdStep, 2, double, full)->Args({100000, 20, 2})->UseManualTime()->Unit(benchmark::kMillisecond);
 BENCHMARK_TEMPLATE(BM_MdpdStep, 2, float, half)->Args({100000, 20, 2})->UseManualTime()->Unit(benchmark::kMillisecond);
 

@@ -27,6 +27,11 @@
 // --mode viscosity: periodic Poiseuille (region_body_force.hpp) in a periodic box; the two
 //   parabolas of u_x(z) give η (Backer et al. 2005).
 //
+// Checkpoints (flow mode): every --checkpoint-every steps after carving, <out>.ckpt.h5 is replaced
+// atomically by the whole state (particles, tags, tether sites, the list's reference positions and
+// the accumulated samples); --restart continues from it bit-identically at the same thread count.
+// Only --steps, --checkpoint-every and --threads may differ from the interrupted run.
+//
 // Output (<out> = --output without extension): <out>.h5 (H5MD: final frame with particle types,
 // observables per sample, parameters), <out>.xdmf, <out>_profile.csv (per bin: z, fluid count,
 // ⟨u_x⟩, u_s, pillar force density, Brinkman fit), <out>_layout.csv (pillar centres), <out>.json
@@ -39,12 +44,15 @@
 #include "drivers/pillars/pillar_layouts.hpp"
 #include "drivers/pillars/pillar_scene.hpp"
 
+#include "kernels/io/checkpoint.hpp"
+
 #include <chrono>
 #include <cmath>
 #include <fstream>
 #include <iomanip>
 #include <iostream>
 #include <optional>
+#include <set>
 
 namespace mesoflow {
 namespace {
@@ -71,7 +79,19 @@ struct Parameters {
   std::string density_kernel = "normalized", list = "half";
   long long seed = 2023;
   int threads = 0;
+  long long checkpoint_every = 10000;
+  bool restart = false;
 };
+
+// The parameters a restart must share with the run it continues, as a string kept in the
+// checkpoint: all but the run length, the checkpoint interval, the threads and the output options.
+std::string scene_signature(const cli::DriverApp& app) {
+  const std::set<std::string> may_change = {"steps", "checkpoint-every", "threads", "restart", "quiet", "output"};
+  std::string s;
+  for (const auto& [key, value] : app.resolved_parameters())
+    if (may_change.count(key) == 0) s += key + "=" + value + " ";
+  return s;
+}
 
 constexpr double pi = 3.14159265358979323846;
 
@@ -147,16 +167,92 @@ void run_flow(const Parameters& par, const cli::DriverApp& app) {
     throw std::invalid_argument("box edges must be at least 2.4σ (twice the neighbor reach)");
 
   const auto box = periodic_box<D>(g);
+  const int bins = g.walls() ? std::max(1, int(std::lround(g.H / par.bin_width))) : 1;
+  if (bins > pillars::max_profile_bins)
+    throw std::invalid_argument("--height / --bin-width gives " + std::to_string(bins) + " bins, at most " +
+                                std::to_string(pillars::max_profile_bins));
   mdpd::MdpdOptions opt;
   opt.k_S = par.k_S;
   opt.list_kind = par.list == "full" ? NeighborListKind::full : NeighborListKind::half;
   mdpd::MdpdSystem<D, Real, Exec> sys(mp, box, std::uint64_t(par.seed), opt);
-  pillars::fill_fluid(sys, g, par.density, std::uint64_t(par.seed));
-  sys.begin();
+
+  // Samples accumulated over the production run (and kept in checkpoints).
+  std::vector<double> count(bins, 0), velocity(bins, 0), pillar_force(bins, 0);
+  double wall_bottom = 0, wall_top = 0, tether = 0, sum_u = 0, sum_u2 = 0, driven = 0;
+  std::vector<double> sample_u, sample_tether;  // per sample, for block-averaged errors
+  long long samples = 0, done = 0;              // samples taken; steps run after carving
+  int solids = 0;
+  std::optional<io::H5mdWriter> h5;
   const auto t0 = std::chrono::steady_clock::now();
-  for (long long s = 0; s < par.equilibrate_steps; ++s) sys.step();
-  const int solids = pillars::carve_solids(sys, g);
-  sys.begin(sys.current_step());
+  if (par.restart) {
+    if (!io::checkpoint_exists(out.checkpoint))
+      throw std::invalid_argument("--restart: no checkpoint " + out.checkpoint + " to resume from");
+    io::CheckpointReader ck(out.checkpoint);
+    const std::string stored = ck.get_string("scene");
+    if (stored != scene_signature(app))
+      throw std::invalid_argument("--restart: " + out.checkpoint + " was written by another scene (" + stored +
+                                  "); only --steps, --checkpoint-every and --threads may change");
+    std::vector<Real> data;
+    std::vector<int> ints;
+    std::vector<std::int64_t> tags;
+    ck.get("position", data);
+    sys.allocate(int(data.size() / D));
+    driver::from_row_major(sys.particles.x, data);
+    ck.get("velocity", data);
+    driver::from_row_major(sys.particles.v, data);
+    ck.get("force", data);
+    driver::from_row_major(sys.particles.f, data);
+    ck.get("mass", data);
+    driver::from_host_vector(sys.particles.mass, data);
+    ck.get("site", data);
+    driver::from_row_major(sys.site, data);
+    ck.get("type", ints);
+    driver::from_host_vector(sys.particles.type, ints);
+    ck.get("body", ints);
+    driver::from_host_vector(sys.particles.body, ints);
+    ck.get("tag", tags);
+    {
+      auto h = Kokkos::create_mirror_view(sys.tag);
+      for (std::size_t i = 0; i < tags.size(); ++i) h(i) = std::uint32_t(tags[i]);
+      Kokkos::deep_copy(sys.tag, h);
+    }
+    ck.get("neighbor_reference_position", data);
+    typename mdpd::MdpdSystem<D, Real, Exec>::vector_view reference("mesoflow::pillars::x_ref", sys.particles.size());
+    driver::from_row_major(reference, data);
+    sys.resume({std::uint64_t(ck.get_scalar_int64("step")), int(ck.get_scalar_int64("builds_since_sort")),
+                int(ck.get_scalar_int64("num_sorts"))},
+               reference);
+    ck.get("samples/count", count);
+    ck.get("samples/velocity", velocity);
+    ck.get("samples/pillar_force", pillar_force);
+    ck.get("samples/per_sample_u", sample_u);
+    ck.get("samples/per_sample_tether", sample_tether);
+    std::vector<double> sums;
+    ck.get("samples/sums", sums);
+    wall_bottom = sums.at(0);
+    wall_top = sums.at(1);
+    tether = sums.at(2);
+    sum_u = sums.at(3);
+    sum_u2 = sums.at(4);
+    driven = sums.at(5);
+    samples = ck.get_scalar_int64("samples/taken");
+    done = ck.get_scalar_int64("steps_after_carving");
+    solids = int(ck.get_scalar_int64("solid_particles"));
+    h5.emplace(io::H5mdWriter::resume(out.trajectory, std::int64_t(sys.current_step())));
+    if (!quiet) std::cerr << "pillars: resumed from " << out.checkpoint << " at step " << sys.current_step() << "\n";
+  } else {
+    pillars::fill_fluid(sys, g, par.density, std::uint64_t(par.seed));
+    sys.begin();
+    for (long long s = 0; s < par.equilibrate_steps; ++s) sys.step();
+    solids = pillars::carve_solids(sys, g);
+    sys.begin(sys.current_step());
+    h5.emplace(out.trajectory, "mesoflow", MESOFLOW_VERSION, "mesoflow pillars");
+    for (const auto& [key, value] : app.resolved_parameters()) h5->set_parameter(key, value);
+    h5->set_parameter("porosity_actual", porosity);
+    h5->set_parameter("box_x", g.Lx);
+    h5->set_parameter("box_y", g.Ly);
+    h5->set_parameter("box_z", g.Lz);
+  }
   mdpd::DrivingRegion<Real> region;
   region.force = Real(fb);
   region.x0 = 0;
@@ -166,6 +262,42 @@ void run_flow(const Parameters& par, const cli::DriverApp& app) {
     std::cerr << "pillars: " << D << "D, " << sys.particles.size() << " particles (" << solids << " solid), box "
               << g.Lx << " x " << g.Ly << (D == 3 ? " x " + std::to_string(g.Lz) : std::string()) << ", porosity "
               << porosity << ", f_b = " << fb << "\n";
+
+  const auto checkpoint = [&] {
+    h5->flush();
+    io::CheckpointWriter ck(out.checkpoint);
+    const std::size_t n = sys.particles.size();
+    const std::vector<std::size_t> vec_shape{n, std::size_t(D)}, scalar_shape{n};
+    const auto put = [&](const std::string& name, const std::vector<double>& v) { ck.put(name, v.data(), {v.size()}); };
+    ck.put_string("scene", scene_signature(app));
+    const auto c = sys.counters();
+    ck.put_scalar("step", std::int64_t(c.step));
+    ck.put_scalar("builds_since_sort", c.builds_since_sort);
+    ck.put_scalar("num_sorts", c.num_sorts);
+    ck.put_scalar("steps_after_carving", done);
+    ck.put_scalar("solid_particles", solids);
+    ck.put("position", driver::to_row_major(sys.particles.x).data(), vec_shape);
+    ck.put("velocity", driver::to_row_major(sys.particles.v).data(), vec_shape);
+    ck.put("force", driver::to_row_major(sys.particles.f).data(), vec_shape);
+    ck.put("mass", driver::to_host_vector(sys.particles.mass).data(), scalar_shape);
+    ck.put("site", driver::to_row_major(sys.site).data(), vec_shape);
+    ck.put("type", driver::to_host_vector(sys.particles.type).data(), scalar_shape);
+    ck.put("body", driver::to_host_vector(sys.particles.body).data(), scalar_shape);
+    {
+      const auto t = driver::to_host_vector(sys.tag);
+      const std::vector<std::int64_t> tags(t.begin(), t.end());
+      ck.put("tag", tags.data(), scalar_shape);
+    }
+    ck.put("neighbor_reference_position", driver::to_row_major(sys.neighbor_reference_positions()).data(), vec_shape);
+    put("samples/count", count);
+    put("samples/velocity", velocity);
+    put("samples/pillar_force", pillar_force);
+    put("samples/per_sample_u", sample_u);
+    put("samples/per_sample_tether", sample_tether);
+    put("samples/sums", {wall_bottom, wall_top, tether, sum_u, sum_u2, driven});
+    ck.put_scalar("samples/taken", samples);
+    ck.commit();
+  };
 
   // Measurement region: the middle half of the box beyond the driving region; for a regular
   // lattice a whole number of unit cells (nearest to half), centred there, so the average covers
@@ -186,30 +318,15 @@ void run_flow(const Parameters& par, const cli::DriverApp& app) {
     for (std::size_t k = 0; k < g.centres.size(); ++k) h(k) = g.centres[k][0];
     Kokkos::deep_copy(pillar_x, h);
   }
-  const int bins = g.walls() ? std::max(1, int(std::lround(g.H / par.bin_width))) : 1;
-  if (bins > pillars::max_profile_bins)
-    throw std::invalid_argument("--height / --bin-width gives " + std::to_string(bins) + " bins, at most " +
-                                std::to_string(pillars::max_profile_bins));
 
-  io::H5mdWriter h5(out.trajectory, "mesoflow", MESOFLOW_VERSION, "mesoflow pillars");
-  for (const auto& [key, value] : app.resolved_parameters()) h5.set_parameter(key, value);
-  h5.set_parameter("porosity_actual", porosity);
-  h5.set_parameter("box_x", g.Lx);
-  h5.set_parameter("box_y", g.Ly);
-  h5.set_parameter("box_z", g.Lz);
-
-  cli::ProgressLine progress(par.warmup_steps + par.steps, int(sys.particles.size()), !quiet);
-  for (long long s = 0; s < par.warmup_steps; ++s) {
-    sys.step();
-    progress.update(s + 1);
-  }
-  std::vector<double> count(bins, 0), velocity(bins, 0), pillar_force(bins, 0);
-  double wall_bottom = 0, wall_top = 0, tether = 0, sum_u = 0, sum_u2 = 0, driven = 0;
-  std::vector<double> sample_u, sample_tether;  // per sample, for block-averaged errors
-  long long samples = 0;
-  for (long long s = 0; s < par.steps; ++s) {
-    const bool sample = (s + 1) % par.sample_every == 0;
+  const long long total = par.warmup_steps + par.steps;
+  const long long first = done;
+  cli::ProgressLine progress(total - first, int(sys.particles.size()), !quiet);
+  while (done < total) {
+    const bool production = done >= par.warmup_steps;
+    const bool sample = production && (done - par.warmup_steps + 1) % par.sample_every == 0;
     sys.step(sample);
+    ++done;
     if (sample) {
       const auto fs = pillars::sample_flow(sys, g, pillar_x, x_lo, x_hi, bins);
       double c = 0, u = 0;
@@ -230,14 +347,21 @@ void run_flow(const Parameters& par, const cli::DriverApp& app) {
       sum_u += mean_u;
       sum_u2 += mean_u * mean_u;
       ++samples;
-      h5.append_observable("mean_velocity_x", std::int64_t(sys.current_step()), sys.time(), mean_u);
+      h5->append_observable("mean_velocity_x", std::int64_t(sys.current_step()), sys.time(), mean_u);
       double f = 0;
       for (double v : fs.pillar_force) f += v;
-      h5.append_observable("pillar_force_x", std::int64_t(sys.current_step()), sys.time(), f);
-      h5.append_observable("temperature_fluid", std::int64_t(sys.current_step()), sys.time(),
-                           mdpd::kinetic_temperature(sys.particles, mdpd::particle_type::fluid));
+      h5->append_observable("pillar_force_x", std::int64_t(sys.current_step()), sys.time(), f);
+      h5->append_observable("temperature_fluid", std::int64_t(sys.current_step()), sys.time(),
+                            mdpd::kinetic_temperature(sys.particles, mdpd::particle_type::fluid));
     }
-    progress.update(par.warmup_steps + s + 1);
+    if (done == total) {  // the final frame, before the last checkpoint
+      if (!h5->has_particles_group("all")) driver::add_particles_group(*h5, "all", sys.particles.size(), box);
+      driver::write_frame(*h5, "all", std::int64_t(sys.current_step()), sys.time(), sys.particles);
+      const auto type = driver::to_host_vector(sys.particles.type);
+      h5->append_int("all", "species", std::int64_t(sys.current_step()), sys.time(), type.data(), type.size(), 1);
+    }
+    if (done % par.checkpoint_every == 0 || done == total) checkpoint();
+    progress.update(done - first);
   }
   progress.finish();
   const double wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -315,13 +439,7 @@ void run_flow(const Parameters& par, const cli::DriverApp& app) {
         << fp[b] << "," << (fit ? pillars::brinkman_profile(z[b], fit->B, fit->alpha, g.H) : 0.0) << "\n";
   csv.close();
 
-  driver::add_particles_group(h5, "all", sys.particles.size(), box);
-  driver::write_frame(h5, "all", std::int64_t(sys.current_step()), sys.time(), sys.particles);
-  {
-    const auto type = driver::to_host_vector(sys.particles.type);
-    h5.append_int("all", "species", std::int64_t(sys.current_step()), sys.time(), type.data(), type.size(), 1);
-  }
-  h5.write_xdmf(out.xdmf);
+  h5->write_xdmf(out.xdmf);
 
   std::ofstream json(out.summary);
   json << std::setprecision(8) << "{\n  \"driver\": \"pillars\",\n  \"mode\": \"flow\",\n  \"dimension\": " << D
@@ -360,7 +478,7 @@ void run_flow(const Parameters& par, const cli::DriverApp& app) {
     json << "}";
   }
   json << ",\n  \"wall_seconds\": " << wall_seconds << ",\n  \"particle_steps_per_second\": "
-       << double(sys.particles.size()) * double(par.equilibrate_steps + par.warmup_steps + par.steps) / wall_seconds
+       << double(sys.particles.size()) * double((par.restart ? 0 : par.equilibrate_steps) + total - first) / wall_seconds
        << ",\n  \"kokkos\": \"" << kokkos_configuration() << "\"\n}\n";
   json.close();
   if (!quiet)
@@ -558,6 +676,9 @@ int main(int argc, char** argv) {
   app.add_choice("--list", par.list, "neighbor list", {"half", "full"});
   app.add_int("--seed", par.seed, "random seed", 0, 4294967295LL);
   app.add_int("--threads", par.threads, "host threads (0: OMP_NUM_THREADS or all cores)", 0, 4096);
+  app.add_int("--checkpoint-every", par.checkpoint_every, "flow mode: steps between checkpoints (<out>.ckpt.h5)", 1,
+              1000000000LL);
+  app.add_flag("--restart", par.restart, "flow mode: continue the interrupted run from <out>.ckpt.h5");
   return app.run(argc, argv, [&] {
     mesoflow::KokkosScope kokkos(par.threads);
     if (par.mode == "theory")

@@ -1,8 +1,9 @@
 // neighbor_list.hpp — Verlet neighbor lists with a skin, built from a cell list.
 //
 // A list holds, for every particle i, the particles j with |x_i − x_j| < cutoff + skin (minimum
-// image on periodic axes). Full lists hold every such j; half lists hold only j > i, so each pair
-// once. Pairs within one body (Particles::body ≥ 0 and equal) can be excluded: the vertices of a
+// image on periodic axes). Full lists hold every such j; half lists hold each pair once, in the row
+// of the particle whose cell comes first (LAMMPS' half/bin/newton stencil: only the cells on one
+// side of a particle's own cell are searched, which halves the candidates a build tests). Pairs within one body (Particles::body ≥ 0 and equal) can be excluded: the vertices of a
 // deformable polygon interact through its own bonded terms, never as contacts.
 //
 // `update()` rebuilds only when some particle has moved more than skin/2 since the last build
@@ -12,6 +13,10 @@
 //
 // The order of j in each row follows the cell order and, within a cell, particle index: the list —
 // and every force summed over it — is identical for any thread count.
+//
+// Optionally (set_inner_cutoff) each row lists first the neighbors within inner cutoff + skin, and
+// inner_count(row) says how many: a kernel with a shorter range (the MDPD density, r_B < r_A)
+// then reads only the front of each row. The split costs one comparison per candidate in the build.
 #pragma once
 
 #include "box.hpp"
@@ -37,8 +42,10 @@ struct NeighborData {
   Kokkos::View<int*, ExecSpace> row_particle;
   Kokkos::View<int*, ExecSpace> count;
   Kokkos::View<int**, ExecSpace> index;
+  Kokkos::View<int*, ExecSpace> inner;  // neighbors within the inner cutoff + skin (front of the row)
   KOKKOS_INLINE_FUNCTION int particle(int row) const { return row_particle(row); }
   KOKKOS_INLINE_FUNCTION int num_neighbors(int row) const { return count(row); }
+  KOKKOS_INLINE_FUNCTION int num_inner_neighbors(int row) const { return inner(row); }
   KOKKOS_INLINE_FUNCTION int neighbor(int row, int k) const { return index(row, k); }
   int num_rows() const { return int(count.extent(0)); }
 };
@@ -65,6 +72,15 @@ class NeighborList {
       throw std::invalid_argument("neighbor list: skin must be >= 0, got " + std::to_string(skin));
   }
 
+  // Rows list the neighbors within `inner_cutoff` + skin first (0 < inner_cutoff ≤ cutoff); takes
+  // effect at the next build.
+  void set_inner_cutoff(Real inner_cutoff) {
+    if (!(inner_cutoff > Real(0) && inner_cutoff <= cutoff_))
+      throw std::invalid_argument("neighbor list: inner cutoff must be in (0, cutoff = " + std::to_string(cutoff_) +
+                                  "], got " + std::to_string(inner_cutoff));
+    inner_cutoff_ = inner_cutoff;
+  }
+
   // Rebuilds if needed (see file comment); returns whether it did.
   bool update(const Particles<D, Real, ExecSpace>& p, const Box<D, Real>& box) {
     if (!needs_rebuild(p.x, box)) return false;
@@ -89,6 +105,7 @@ class NeighborList {
     cells_.build(p.x, box, reach / Real(cells_per_reach_));
     if (int(count_.extent(0)) != n) {
       count_ = int_view("mesoflow::neighbor_list::count", n);
+      inner_ = int_view("mesoflow::neighbor_list::inner_count", n);
       x_ref_ = vector_view(Kokkos::ViewAllocateWithoutInitializing("mesoflow::neighbor_list::x_ref"), n);
       if (capacity_ == 0) capacity_ = initial_capacity(box, n);
       index_ = Kokkos::View<int**, ExecSpace>(
@@ -113,10 +130,11 @@ class NeighborList {
     ++num_builds_;
   }
 
-  NeighborData<ExecSpace> data() const { return {cells_.cell_particles(), count_, index_}; }
+  NeighborData<ExecSpace> data() const { return {cells_.cell_particles(), count_, index_, inner_}; }
   NeighborListKind kind() const { return kind_; }
   BodyExclusion exclusion() const { return exclusion_; }
   Real cutoff() const { return cutoff_; }
+  Real inner_cutoff() const { return inner_cutoff_; }
   Real skin() const { return skin_; }
   int num_builds() const { return num_builds_; }
   int max_neighbors() const { return max_neighbors_; }
@@ -175,8 +193,14 @@ class NeighborList {
   }
 
   // Writes the rows (up to the capacity) and returns the longest row found. The inner loop is
-  // branch-free: every candidate is written at the row's next free column and kept only if it
-  // qualifies (column `capacity` is scratch for rows that overflow).
+  // branch-free: every candidate is written at the row's next free slot at each end — neighbors
+  // within the inner reach fill the row from the front, the others from the back (column
+  // `capacity`) — and kept only if it qualifies; a row that would overflow only writes slots that
+  // the refill with a larger capacity rewrites. The back part is then moved behind the front part.
+  //
+  // Half lists search the half stencil: cell offsets δ (in the cell-list row order, axis D−1
+  // first) that are lexicographically positive, and in the particle's own cell only the slots
+  // after its own. A pair (i, j) is met from exactly one end, since j sees i at −δ.
   template <bool Half, bool ExcludeBody>
   int fill(const Box<D, Real>& box) {
     const auto grid = cells_.grid();
@@ -185,10 +209,13 @@ class NeighborList {
     const auto xb = cells_.binned_x();
     const auto body = body_binned_;
     const auto count = count_;
+    const auto inner_count = inner_;
     const auto index = index_;
     const int capacity = capacity_;
     const int m = cells_per_reach_;
     const Real reach2 = (cutoff_ + skin_) * (cutoff_ + skin_);
+    const Real inner_reach = (inner_cutoff_ > Real(0) ? inner_cutoff_ : cutoff_) + skin_;
+    const Real inner2 = inner_reach * inner_reach;
     // A cell is skipped only when clearly out of reach, so round-off in the gap can never drop
     // a pair that the exact distance test would keep.
     const Real skip_gap2 = reach2 * (Real(1) + Real(64) * std::numeric_limits<Real>::epsilon());
@@ -197,7 +224,6 @@ class NeighborList {
     Kokkos::parallel_reduce(
         "mesoflow::neighbor_list::fill", Kokkos::RangePolicy<ExecSpace>(0, n),
         KOKKOS_LAMBDA(int s, int& longest) {
-          const int i = slots(s);
           const int body_i = ExcludeBody ? body(s) : -1;
           Real xi[D], to_lower[D], to_upper[D], width[D];
           int ci[D];
@@ -216,19 +242,21 @@ class NeighborList {
             const Real g = (step < 0 ? to_lower[d] : to_upper[d]) + Real((step < 0 ? -step : step) - 1) * width[d];
             return g * g;
           };
-          int found = 0;
+          int front = 0, back = capacity;  // next free slot at each end of the row
           // Rows of cells along axis 0 are contiguous in the CSR order, so each row within reach
           // is one run of slots (two where it wraps around a periodic boundary).
           int row_step[D];
-          for (int d = 1; d < D; ++d) row_step[d] = -m;
+          for (int d = 1; d < D; ++d) row_step[d] = Half ? 0 : -m;
           for (;;) {
             Real row_gap2 = 0;
             int row_cell = 0;
             bool inside = true;
+            bool own_row = true;  // the row through the particle's own cell
             Real shifted[D];
             shifted[0] = xi[0];
             for (int d = D - 1; d >= 1; --d) {
               row_gap2 += axis_gap2(d, row_step[d]);
+              own_row = own_row && row_step[d] == 0;
               int c = ci[d] + row_step[d];
               shifted[d] = xi[d];
               if (c < 0 || c >= grid.n[d]) {
@@ -239,7 +267,7 @@ class NeighborList {
               row_cell = row_cell * grid.n[d] + c;
             }
             if (inside && row_gap2 < skip_gap2) {
-              int first = -m, last = m;
+              int first = Half && own_row ? 0 : -m, last = m;
               while (first < 0 && row_gap2 + axis_gap2(0, first) >= skip_gap2) ++first;
               while (last > 0 && row_gap2 + axis_gap2(0, last) >= skip_gap2) --last;
               int c_begin = ci[0] + first, c_end = ci[0] + last;  // inclusive, unwrapped
@@ -256,7 +284,9 @@ class NeighborList {
                 const int k = row_cell * grid.n[0] + wrapped;
                 const int t_end = offset(k + run_cells);
                 shifted[0] = xi[0] + shift;
-                for (int t = offset(k); t < t_end; ++t) {
+                // The half stencil's own cell: only the slots after s.
+                const int t_begin = Half && own_row && c == ci[0] ? s + 1 : offset(k);
+                for (int t = t_begin; t < t_end; ++t) {
                   Real r2 = 0;
                   for (int d = 0; d < D; ++d) {
                     const Real dx = shifted[d] - xb(t, d);
@@ -264,10 +294,12 @@ class NeighborList {
                   }
                   const int j = slots(t);
                   bool keep = (r2 < reach2) & (t != s);
-                  if (Half) keep &= j > i;
                   if (ExcludeBody) keep &= (body_i < 0) | (body(t) != body_i);
-                  index(s, found < capacity ? found : capacity) = j;
-                  found += keep;
+                  const bool near = r2 < inner2;
+                  index(s, front < capacity ? front : capacity) = j;
+                  index(s, back > 0 ? back : 0) = j;
+                  front += keep & near;
+                  back -= keep & !near;
                 }
                 c += run_cells;
               }
@@ -276,7 +308,12 @@ class NeighborList {
             while (d < D && ++row_step[d] > m) row_step[d++] = -m;
             if (d == D) break;
           }
+          const int outer = capacity - back;
+          const int found = front + outer;
+          if (found <= capacity)
+            for (int q = 0; q < outer; ++q) index(s, front + q) = index(s, back + 1 + q);
           count(s) = found;
+          inner_count(s) = front;
           if (found > longest) longest = found;
         },
         Kokkos::Max<int>(needed));
@@ -284,11 +321,12 @@ class NeighborList {
   }
 
   Real cutoff_, skin_;
+  Real inner_cutoff_ = 0;  // 0: no inner split (every neighbor counts as inner)
   NeighborListKind kind_;
   BodyExclusion exclusion_;
   int cells_per_reach_;
   CellList<D, Real, ExecSpace> cells_;
-  int_view count_;
+  int_view count_, inner_;
   Kokkos::View<int**, ExecSpace> index_;  // n × (capacity + 1): the last column is scratch
   int_view body_binned_;
   vector_view x_ref_;

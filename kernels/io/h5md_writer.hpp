@@ -60,6 +60,8 @@ class H5mdWriter {
     set_parameter(name, static_cast<long long>(value));
   }
 
+  // Whether /particles/<group> is declared (by add_particles_group, or in a resumed file).
+  bool has_particles_group(const std::string& group) const { return groups_.count(group) != 0; }
   // Declares /particles/<group> with `n_particles` particles in `dim` (2 or 3) dimensions and its
   // fixed box [box_lo, box_lo + box_edges), periodic or not per axis. Must precede appends to it.
   // The groups of a resumed file are declared already.

@@ -2,9 +2,9 @@
 // density_weight.hpp), summed over a neighbor list of reach ≥ r_B.
 //
 // The density needs only the pairs within r_B + skin of a list built for r_A + skin (r_B = 0.75 r_A:
-// about half of the entries in 3D). partition() reorders every row after a build so those pairs
-// come first; compute() then stops at the inner count — on the build it was partitioned for only,
-// and reads whole rows otherwise.
+// about half of the entries in 3D). A list whose inner cutoff covers r_B (NeighborList::
+// set_inner_cutoff) lists those pairs first in every row, and compute() reads only them; on any
+// other list it reads whole rows.
 //
 // Full list: each row sums its own particle, in list order (deterministic, no atomics). Half list:
 // each pair once, both ends through a ScatterView (thread-duplicated on OpenMP, atomic on GPUs).
@@ -30,7 +30,7 @@ class LocalDensity {
   // rho(i) ← ρ̄_i for every particle, from the positions packed in rows xr (packed_state.hpp).
   void compute(const PackedRows<Real, ExecSpace>& xr, const NeighborList<D, Real, ExecSpace>& list,
                const Box<D, Real>& box, const scalar_view& rho) {
-    use_inner_ = partitioned_build_ == list.num_builds();
+    use_inner_ = list.inner_cutoff() >= weight_.h;
     if (list.kind() == NeighborListKind::full)
       compute_full(xr, list, box, rho);
     else
@@ -39,55 +39,18 @@ class LocalDensity {
 
   const DensityWeight<D, Real>& weight() const { return weight_; }
 
-  // Moves, in each row, the neighbors within r_B + skin (at the current positions, which must be
-  // those of the list's last build up to periodic wrapping) in front of the others; the order is
-  // deterministic (two-pointer partition of the row in list order).
-  void partition(const PackedRows<Real, ExecSpace>& x, const NeighborList<D, Real, ExecSpace>& list,
-                 const Box<D, Real>& box) {
-    const int n = int(x.extent(0));
-    if (int(inner_.extent(0)) != n) inner_ = Kokkos::View<int*, ExecSpace>("mesoflow::mdpd::density_inner", n);
-    const auto inner = inner_;
-    const auto nbr = list.data();
-    const Real reach = weight_.h + list.skin();
-    const Real reach2 = reach * reach;
-    Kokkos::parallel_for(
-        "mesoflow::mdpd::density_partition", Kokkos::RangePolicy<ExecSpace>(0, n), KOKKOS_LAMBDA(int row) {
-          const int i = nbr.particle(row);
-          const Vec<D, Real> xi = row_vector(x, i);
-          auto near = [&](int j) {
-            Vec<D, Real> dr = xi - row_vector(x, j);
-            box.minimum_image_near(dr);
-            return norm2(dr) < reach2;
-          };
-          int lo = 0, hi = nbr.num_neighbors(row) - 1;
-          while (lo <= hi) {
-            const int j = nbr.index(row, lo);
-            if (near(j)) {
-              ++lo;
-            } else {
-              nbr.index(row, lo) = nbr.index(row, hi);
-              nbr.index(row, hi) = j;
-              --hi;
-            }
-          }
-          inner(row) = lo;
-        });
-    partitioned_build_ = list.num_builds();
-  }
-
  private:
   void compute_full(const PackedRows<Real, ExecSpace>& x, const NeighborList<D, Real, ExecSpace>& list,
                     const Box<D, Real>& box, const scalar_view& rho) const {
     const auto nbr = list.data();
     const auto w = weight_;
-    const auto inner = inner_;
     const bool use_inner = use_inner_;
     Kokkos::parallel_for(
         "mesoflow::mdpd::density_full", Kokkos::RangePolicy<ExecSpace>(0, x.extent(0)), KOKKOS_LAMBDA(int row) {
           const int i = nbr.particle(row);
           const Vec<D, Real> xi = row_vector(x, i);
           Real sum = w.self;
-          const int nn = use_inner ? inner(row) : nbr.num_neighbors(row);
+          const int nn = use_inner ? nbr.num_inner_neighbors(row) : nbr.num_neighbors(row);
           for (int k = 0; k < nn; ++k) {
             Vec<D, Real> dr = xi - row_vector(x, nbr.neighbor(row, k));
             box.minimum_image_near(dr);
@@ -111,7 +74,6 @@ class LocalDensity {
     scatter_.reset_except(rho);
     auto scatter = scatter_;
     const auto nbr = list.data();
-    const auto inner = inner_;
     const bool use_inner = use_inner_;
     Kokkos::parallel_for(
         "mesoflow::mdpd::density_half", Kokkos::RangePolicy<ExecSpace>(0, x.extent(0)), KOKKOS_LAMBDA(int row) {
@@ -119,7 +81,7 @@ class LocalDensity {
           const int i = nbr.particle(row);
           const Vec<D, Real> xi = row_vector(x, i);
           Real sum = 0;
-          const int nn = use_inner ? inner(row) : nbr.num_neighbors(row);
+          const int nn = use_inner ? nbr.num_inner_neighbors(row) : nbr.num_neighbors(row);
           for (int k = 0; k < nn; ++k) {
             const int j = nbr.neighbor(row, k);
             Vec<D, Real> dr = xi - row_vector(x, j);
@@ -144,8 +106,6 @@ class LocalDensity {
   }
 
   DensityWeight<D, Real> weight_;
-  Kokkos::View<int*, ExecSpace> inner_;
-  int partitioned_build_ = -1;
   bool use_inner_ = false;
   decltype(Kokkos::Experimental::create_scatter_view(scalar_view())) scatter_;
   const Real* scatter_target_ = nullptr;

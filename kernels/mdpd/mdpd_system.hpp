@@ -84,20 +84,31 @@ class MdpdSystem {
   // scene needs, builds the list and computes the forces at the current step.
   void begin(std::uint64_t step = 0) {
     step_ = step;
-    const auto type = particles.type;
-    int solids = 0, cores = 0;
-    Kokkos::parallel_reduce(
-        "mesoflow::mdpd::count_solids", Kokkos::RangePolicy<ExecSpace>(0, particles.size()),
-        KOKKOS_LAMBDA(int i, int& s, int& c) {
-          s += is_solid(type(i));
-          c += type(i) == particle_type::solid_core;
-        },
-        solids, cores);
-    has_solids_ = solids > 0 && tether_.stiffness() != Real(0);
-    has_core_ = cores > 0;
-    list_.emplace(pair_.reach(has_core_), Real(opt_.skin), opt_.list_kind, BodyExclusion::none, opt_.cells_per_reach);
+    prepare_terms();
     builds_since_sort_ = 0;
     compute_forces(false, particles.v);
+  }
+
+  // Counters that, with the particle arrays (x, v, f, mass, type, body), tag, site and the list's
+  // reference positions, make up the state a bit-identical restart needs.
+  struct Counters {
+    std::uint64_t step;
+    int builds_since_sort, num_sorts;
+  };
+  Counters counters() const { return {step_, builds_since_sort_, num_sorts_}; }
+  vector_view neighbor_reference_positions() const { return list_->reference_positions(); }
+
+  // Continues a saved run: the particle arrays, tag and site hold the saved values (f the forces
+  // of the saved step, which are not recomputed); the list is rebuilt from its saved reference
+  // positions, so it has the same rows as when the state was saved.
+  void resume(const Counters& c, const vector_view& reference) {
+    prepare_terms();
+    Particles<D, Real, ExecSpace> at_reference = particles;
+    at_reference.x = reference;
+    list_->build(at_reference, box_);
+    step_ = c.step;
+    builds_since_sort_ = c.builds_since_sort;
+    num_sorts_ = c.num_sorts;
   }
 
   // One time step; with `record_drag`, solid_drag(i) holds the force of the fluid on solid i
@@ -126,6 +137,23 @@ class MdpdSystem {
   vector_view solid_drag;    // force of the fluid on each solid particle (when recorded)
 
  private:
+  // Which terms the scene needs (solids with tethers, solid cores with WCA), and a fresh list.
+  void prepare_terms() {
+    const auto type = particles.type;
+    int solids = 0, cores = 0;
+    Kokkos::parallel_reduce(
+        "mesoflow::mdpd::count_solids", Kokkos::RangePolicy<ExecSpace>(0, particles.size()),
+        KOKKOS_LAMBDA(int i, int& s, int& c) {
+          s += is_solid(type(i));
+          c += type(i) == particle_type::solid_core;
+        },
+        solids, cores);
+    has_solids_ = solids > 0 && tether_.stiffness() != Real(0);
+    has_core_ = cores > 0;
+    list_.emplace(pair_.reach(has_core_), Real(opt_.skin), opt_.list_kind, BodyExclusion::none, opt_.cells_per_reach);
+    list_->set_inner_cutoff(density_.weight().h);  // rows list the density's pairs first
+  }
+
   // `v`: the velocities the dissipative force sees (the integrator's prediction during a step).
   void compute_forces(bool record_drag, const vector_view& v_forces) {
     const bool rebuilt = list_->update(particles, box_);
@@ -139,10 +167,8 @@ class MdpdSystem {
       }
     }
     pack_vectors<D, Real, ExecSpace>(particles.x, xr_);
-    // Partitioning pays in 3D, where the density pass then reads (r_B + skin)³/(r_A + skin)³ = 0.54
-    // of each row; in 2D the ratio is only 0.77 and the extra pass per rebuild costs more than it
-    // saves (bench_mdpd, 2 threads: 3D 1.79 against 1.57·10⁶, 2D 3.5 against 3.96·10⁶ steps/s).
-    if (rebuilt && D == 3) density_.partition(xr_, *list_, box_);
+    // The density pass reads only the front of each row: (r_B + skin)³/(r_A + skin)³ = 0.54 of it
+    // in 3D, 0.77 in 2D (the list's inner cutoff is r_B).
     density_.compute(xr_, *list_, box_, rho);
     {
       const auto xr = xr_, vr = vr_;

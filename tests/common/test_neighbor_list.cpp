@@ -43,9 +43,10 @@ Box<D, Real> make_box(double L, std::array<bool, D> periodic, double lo = -1.0) 
   return Box<D, Real>(lo_, len, per);
 }
 
-// Pairs (i, j) found by the list, as a set.
+// Pairs (i, j) found by the list, as a set; for a half list as (min, max), each pair once.
 template <int D, class Real, class Exec>
 std::set<std::pair<int, int>> listed_pairs(const NeighborList<D, Real, Exec>& nl) {
+  const bool half = nl.kind() == NeighborListKind::half;
   auto data = nl.data();
   auto particle = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), data.row_particle);
   auto count = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), data.count);
@@ -56,7 +57,8 @@ std::set<std::pair<int, int>> listed_pairs(const NeighborList<D, Real, Exec>& nl
     const int i = particle(r);
     EXPECT_TRUE(rows_of.insert(i).second) << "particle " << i << " owns two rows";
     for (int k = 0; k < count(r); ++k) {
-      const bool inserted = pairs.insert({i, index(r, k)}).second;
+      const int j = index(r, k);
+      const bool inserted = pairs.insert(half ? std::pair<int, int>{std::min(i, j), std::max(i, j)} : std::pair<int, int>{i, j}).second;
       EXPECT_TRUE(inserted) << "pair (" << i << ", " << index(r, k) << ") listed twice";
     }
   }
@@ -77,7 +79,7 @@ void expect_matches_brute_force(const NeighborList<D, Real, Exec>& nl, const Par
   std::size_t expected = 0, ambiguous_listed = 0;
   for (int i = 0; i < n; ++i)
     for (int j = 0; j < n; ++j) {
-      if (i == j || (half && j < i)) continue;
+      if (i == j || (half && j < i)) continue;  // a half list's pairs are stored as (min, max)
       if (exclude_body && body(i) >= 0 && body(i) == body(j)) {
         EXPECT_EQ(listed.count({i, j}), 0u) << "same-body pair " << i << "," << j << " listed";
         continue;
@@ -146,13 +148,13 @@ TYPED_TEST(NeighborListTest, SmallestAllowedPeriodicBoxHasTwoCellsPerAxis) {
   // L = 2 (cutoff + skin) exactly: two cells per axis, each reached through both periodic images.
   auto box = make_box<3, Real>(2.6, {true, true, true});
   auto p = make_particles<3, Real, Exec>(random_positions<3>(120, -1.0, 2.6, 7));
-  for (int cells_per_reach = 1; cells_per_reach <= 4; ++cells_per_reach) {
-    NeighborList<3, Real, Exec> nl(Real(1.0), Real(0.3), NeighborListKind::full, BodyExclusion::none,
-                                   cells_per_reach);
-    nl.build(p, box);
-    EXPECT_EQ(nl.cells().grid().total, 8 * cells_per_reach * cells_per_reach * cells_per_reach);
-    expect_matches_brute_force(nl, p, box, 1.3, false, false);
-  }
+  for (auto kind : {NeighborListKind::full, NeighborListKind::half})
+    for (int cells_per_reach = 1; cells_per_reach <= 4; ++cells_per_reach) {
+      NeighborList<3, Real, Exec> nl(Real(1.0), Real(0.3), kind, BodyExclusion::none, cells_per_reach);
+      nl.build(p, box);
+      EXPECT_EQ(nl.cells().grid().total, 8 * cells_per_reach * cells_per_reach * cells_per_reach);
+      expect_matches_brute_force(nl, p, box, 1.3, kind == NeighborListKind::half, false);
+    }
 }
 
 TYPED_TEST(NeighborListTest, EmptyCellsAndEverythingInOneCell) {
@@ -182,6 +184,9 @@ TYPED_TEST(NeighborListTest, EmptyCellsAndEverythingInOneCell) {
     NeighborList<3, Real, Exec> nl(Real(1.0), Real(0.2));
     nl.build(p, box);
     EXPECT_EQ(nl.num_entries(), 40 * 39);
+    NeighborList<3, Real, Exec> half(Real(1.0), Real(0.2), NeighborListKind::half);
+    half.build(p, box);
+    EXPECT_EQ(half.num_entries(), 40 * 39 / 2);
   }
 }
 
@@ -277,15 +282,68 @@ TYPED_TEST(NeighborListTest, CapacityGrowsWhenTheSystemCompresses) {
   using Exec = typename TypeParam::exec;
   auto box = make_box<2, Real>(10.0, {true, true});
   auto sparse = make_particles<2, Real, Exec>(random_positions<2>(200, -1.0, 10.0, 13));
-  NeighborList<2, Real, Exec> nl(Real(1.0), Real(0.2));
-  nl.build(sparse, box);
-  const int capacity_before = nl.capacity();
-  // Same count, all squeezed into a 2 × 2 corner: far more neighbors than first estimated.
-  auto dense = make_particles<2, Real, Exec>(random_positions<2>(200, -1.0, 2.0, 14));
-  nl.build(dense, box);
-  EXPECT_GT(nl.capacity(), capacity_before);
-  EXPECT_GE(nl.capacity(), nl.max_neighbors());
-  expect_matches_brute_force(nl, dense, box, 1.2, false, false);
+  for (auto kind : {NeighborListKind::full, NeighborListKind::half}) {
+    NeighborList<2, Real, Exec> nl(Real(1.0), Real(0.2), kind);
+    nl.build(sparse, box);
+    const int capacity_before = nl.capacity();
+    // Same count, all squeezed into a 2 × 2 corner: far more neighbors than first estimated.
+    auto dense = make_particles<2, Real, Exec>(random_positions<2>(200, -1.0, 2.0, 14));
+    nl.build(dense, box);
+    EXPECT_GT(nl.capacity(), capacity_before);
+    EXPECT_GE(nl.capacity(), nl.max_neighbors());
+    expect_matches_brute_force(nl, dense, box, 1.2, kind == NeighborListKind::half, false);
+  }
+}
+
+// With an inner cutoff, every row lists first exactly its neighbors within inner cutoff + skin;
+// the set of pairs is that of the same list without the split. Also through a capacity overflow.
+TYPED_TEST(NeighborListTest, InnerCutoffListsTheNearNeighborsFirst) {
+  using Real = typename TypeParam::real;
+  using Exec = typename TypeParam::exec;
+  const double cutoff = 1.0, inner_cutoff = 0.75, skin = 0.2, L = 6.0;
+  auto box = make_box<3, Real>(L, {true, true, false});
+  auto sparse = make_particles<3, Real, Exec>(random_positions<3>(500, -1.0, L, 21));
+  auto dense = make_particles<3, Real, Exec>(random_positions<3>(500, -1.0, 2.5, 22));
+  for (auto kind : {NeighborListKind::full, NeighborListKind::half}) {
+    NeighborList<3, Real, Exec> plain(Real(cutoff), Real(skin), kind, BodyExclusion::none, 2);
+    NeighborList<3, Real, Exec> split(Real(cutoff), Real(skin), kind, BodyExclusion::none, 2);
+    split.set_inner_cutoff(Real(inner_cutoff));
+    int sparse_capacity = 0;
+    for (const auto* p : {&sparse, &dense}) {
+      plain.build(*p, box);
+      split.build(*p, box);
+      EXPECT_EQ(listed_pairs(plain), listed_pairs(split));
+      auto data = split.data();
+      auto particle = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), data.row_particle);
+      auto count = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), data.count);
+      auto inner = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), data.inner);
+      auto index = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), data.index);
+      auto x = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), p->x);
+      const double reach = inner_cutoff + skin, ambiguity = 64 * testing::eps<Real>() * (reach + L);
+      long long inner_total = 0;
+      for (std::size_t r = 0; r < count.extent(0); ++r) {
+        const int i = particle(r);
+        ASSERT_LE(inner(r), count(r));
+        inner_total += inner(r);
+        for (int k = 0; k < count(r); ++k) {
+          const int j = index(r, k);
+          double r2 = 0;
+          for (int d = 0; d < 3; ++d) {
+            double dx = double(x(i, d)) - double(x(j, d));
+            if (d < 2) dx -= L * std::floor(dx / L + 0.5);
+            r2 += dx * dx;
+          }
+          const double dist = std::sqrt(r2);
+          if (std::abs(dist - reach) <= ambiguity) continue;
+          EXPECT_EQ(k < inner(r), dist < reach) << "row of " << i << ", entry " << k << " at r = " << dist;
+        }
+      }
+      EXPECT_GT(inner_total, 0);
+      EXPECT_LT(inner_total, plain.num_entries());
+      if (p == &sparse) sparse_capacity = split.capacity();
+    }
+    EXPECT_GT(split.capacity(), sparse_capacity);  // the dense build overflowed and was refilled
+  }
 }
 
 TYPED_TEST(NeighborListTest, RejectsPeriodicBoxShorterThanTwiceTheReach) {
