@@ -1,0 +1,95 @@
+// bench_sph.cpp — a weakly compressible SPH water box (issue 7): ~10⁵ particles on a simple cubic
+// lattice of spacing Δx in a periodic cube, ρ0 = 1, random velocities of amplitude U = 0.1, Tait
+// equation of state with c0 = 10U (eq. 6), ν = 0.01, Lucy kernel of support 2.5Δx (the paper's
+// kernel; ~80 neighbours within the support on the lattice, ~65 once disordered), dt from the
+// limits of sph_time_step.hpp (acoustic here). items_per_second = particle-steps/s; a step is
+// everything SphSystem::step does: half kick, half density update, extrapolated velocity and drift
+// (eqs. 11–14); neighbor-list upkeep (skin criterion, periodic memory sort); packed rows with the
+// pressures of eq. (6); the fused density-rate + pressure + viscous pair loop (eqs. 4–5) over a full
+// list; second half kick and density update (eqs. 15–16).
+// Arguments: particles, neighbor skin in % of the support, cells per reach of the list's binning.
+// Each configuration runs 100 steps before timing.
+#include <benchmark/benchmark.h>
+
+#include "manual_timing.hpp"
+#include "kernels/common/random.hpp"
+#include "kernels/sph/sph_system.hpp"
+
+#include <cmath>
+
+namespace mesoflow {
+namespace {
+
+using Exec = Kokkos::DefaultExecutionSpace;
+
+// Mean number of neighbours within the kernel support.
+template <class Real, class Sys>
+double mean_neighbors(const Sys& sys) {
+  const auto nbr = sys.neighbor_list().data();
+  const auto x = sys.particles.x;
+  const auto box = sys.box();
+  const Real support2 = sys.kernel().support2;
+  long long total = 0;
+  Kokkos::parallel_reduce(
+      "mesoflow::bench::sph_neighbors", Kokkos::RangePolicy<Exec>(0, x.extent(0)),
+      KOKKOS_LAMBDA(int row, long long& acc) {
+        const int i = nbr.particle(row);
+        const Vec<3, Real> xi = Vec<3, Real>::load(x, i);
+        for (int k = 0; k < nbr.num_neighbors(row); ++k) {
+          Vec<3, Real> dr = xi - Vec<3, Real>::load(x, nbr.neighbor(row, k));
+          box.minimum_image(dr);
+          acc += norm2(dr) < support2;
+        }
+      },
+      total);
+  return double(total) / double(x.extent(0));
+}
+
+template <class Real>
+void BM_SphStep(benchmark::State& state) {
+  const int side = int(std::lround(std::cbrt(double(state.range(0)))));
+  const int n = side * side * side;
+  const double rho0 = 1, u = 0.1, nu = 0.01, support = 2.5;
+  const double c0 = sph::speed_of_sound_for_velocity(u);
+  const sph::LucyKernel<3, Real> kernel{Real(support)};
+  const double dt = sph::sph_time_step_limits(sph::time_step_length(kernel), nu, c0, 0.0).dt();
+  sph::SphOptions opt;
+  opt.skin_fraction = double(state.range(1)) / 100.0;
+  opt.cells_per_reach = int(state.range(2));
+  sph::SphSystem<3, Real, Exec> sys(kernel, sph::TaitEquationOfState<Real>(rho0, c0),
+                                    Box<3, Real>::cube(Real(side), true), Real(dt), opt);
+  sys.allocate(n);
+  {
+    auto x = Kokkos::create_mirror_view(sys.particles.x);
+    for (int a = 0, i = 0; a < side; ++a)
+      for (int b = 0; b < side; ++b)
+        for (int c = 0; c < side; ++c, ++i) {
+          x(i, 0) = Real(a + 0.5);
+          x(i, 1) = Real(b + 0.5);
+          x(i, 2) = Real(c + 0.5);
+        }
+    Kokkos::deep_copy(sys.particles.x, x);
+  }
+  const Real lo[3] = {Real(-u), Real(-u), Real(-u)}, hi[3] = {Real(u), Real(u), Real(u)};
+  fill_uniform_counter(sys.particles.v, lo, hi, 7, 1);
+  Kokkos::deep_copy(sys.particles.mass, Real(rho0));
+  Kokkos::deep_copy(sys.mu, Real(nu * rho0));
+  sys.begin();
+  for (int s = 0; s < 100; ++s) sys.step();
+  constexpr int steps_per_iteration = 10;
+  const int builds_before = sys.neighbor_list().num_builds();
+  bench::timed(state, [&] {
+    for (int s = 0; s < steps_per_iteration; ++s) sys.step();
+  });
+  const double steps = double(state.iterations()) * steps_per_iteration;
+  state.SetItemsProcessed(std::int64_t(steps * n));
+  state.counters["particles"] = n;
+  state.counters["neighbors"] = mean_neighbors<Real>(sys);
+  state.counters["steps_per_rebuild"] = steps / std::max(1, sys.neighbor_list().num_builds() - builds_before);
+}
+
+BENCHMARK_TEMPLATE(BM_SphStep, double)->Args({100000, 10, 1})->Args({100000, 20, 1})->Args({100000, 10, 2})->UseManualTime()->Unit(benchmark::kMillisecond);
+BENCHMARK_TEMPLATE(BM_SphStep, float)->Args({100000, 10, 1})->UseManualTime()->Unit(benchmark::kMillisecond);
+
+}  // namespace
+}  // namespace mesoflow

@@ -1,0 +1,173 @@
+// sph_pair_interactions.hpp — the one SPH pair loop: the density rate of eq. (4)
+// (continuity_density.hpp) and the pressure + viscous force of eq. (5) (pressure_viscous_force.hpp),
+// plus the body force, in a single pass over a full neighbor list. Both sums need the same pairs at
+// the same positions and extrapolated velocities (sph_integrator.hpp), so fusing them reads each
+// pair once and evaluates the kernel gradient once.
+//
+// Full list only: each row sums its own particle's ρ̇ and force in list order — deterministic for
+// any thread count, no atomics. Sums accumulate in double whatever Real is (the pressure terms of
+// a nearly uniform fluid cancel to a small remainder).
+//
+// Walls (particle_types.hpp) show their own velocity in the viscous term, or, with a wall geometry,
+// the fluid velocity extrapolated through their surface (Morris et al. 1997, no_slip_walls.hpp);
+// only that variant reads the particle types per pair.
+//
+// Every particle's per-pair data is gathered from one packed row (LayoutRight, as the MDPD pair
+// loop does, packed_state.hpp there): position, extrapolated velocity ū, mass, 1/ρ, p/ρ² and
+// dynamic viscosity μ; pack_sph_rows() fills them once per step and evaluates the equation of
+// state, eq. (6), on the way.
+#pragma once
+
+#include "continuity_density.hpp"
+#include "no_slip_walls.hpp"
+#include "kernels/common/box.hpp"
+#include "kernels/common/neighbor_list.hpp"
+#include "kernels/common/particles.hpp"
+#include "particle_types.hpp"
+#include "pressure_viscous_force.hpp"
+#include "tait_equation_of_state.hpp"
+
+#include <stdexcept>
+
+namespace mesoflow::sph {
+
+// Columns of a packed row.
+template <int D>
+struct SphColumn {
+  static constexpr int x = 0;            // position, D columns
+  static constexpr int u = D;            // extrapolated velocity ū, D columns
+  static constexpr int mass = 2 * D;
+  static constexpr int inv_rho = 2 * D + 1;
+  static constexpr int p_over_rho2 = 2 * D + 2;
+  static constexpr int mu = 2 * D + 3;   // dynamic viscosity
+  static constexpr int width = 2 * D + 4;
+};
+
+template <int D, class Real, class ExecSpace>
+using SphRows = Kokkos::View<Real* [SphColumn<D>::width], Kokkos::LayoutRight, ExecSpace>;
+
+// Per wall particle: the unit normal into the fluid and the depth below the wall surface
+// (no_slip_walls.hpp); rows of fluid particles are not read.
+template <int D, class Real, class ExecSpace>
+using WallGeometry = Kokkos::View<Real* [D + 1], Kokkos::LayoutRight, ExecSpace>;
+
+// rows(i) ← (x_i, ū_i, m_i, 1/ρ_i, p_i/ρ_i², μ_i) and pressure(i) ← p(ρ_i) (eq. 6).
+template <int D, class Real, class ExecSpace>
+void pack_sph_rows(const Particles<D, Real, ExecSpace>& p,
+                   const typename Particles<D, Real, ExecSpace>::vector_view& u_bar,
+                   const Kokkos::View<Real*, ExecSpace>& rho, const Kokkos::View<Real*, ExecSpace>& mu,
+                   const TaitEquationOfState<Real>& eos, const SphRows<D, Real, ExecSpace>& rows,
+                   const Kokkos::View<Real*, ExecSpace>& pressure) {
+  using C = SphColumn<D>;
+  const auto x = p.x;
+  const auto m = p.mass;
+  Kokkos::parallel_for(
+      "mesoflow::sph::pack_rows", Kokkos::RangePolicy<ExecSpace>(0, p.size()), KOKKOS_LAMBDA(int i) {
+        const Real rho_i = rho(i);
+        const Real inv_rho = Real(1) / rho_i;
+        const Real p_i = eos.pressure(rho_i);
+        for (int d = 0; d < D; ++d) {
+          rows(i, C::x + d) = x(i, d);
+          rows(i, C::u + d) = u_bar(i, d);
+        }
+        rows(i, C::mass) = m(i);
+        rows(i, C::inv_rho) = inv_rho;
+        rows(i, C::p_over_rho2) = p_i * inv_rho * inv_rho;
+        rows(i, C::mu) = mu(i);
+        pressure(i) = p_i;
+      });
+}
+
+template <int D, class Real, class ExecSpace, class Kernel>
+class SphPairInteractions {
+ public:
+  using vector_view = typename Particles<D, Real, ExecSpace>::vector_view;
+  using scalar_view = Kokkos::View<Real*, ExecSpace>;
+  using int_view = Kokkos::View<int*, ExecSpace>;
+
+  SphPairInteractions(const Kernel& kernel, const BodyForce<D, Real>& body) : kernel_(kernel), body_(body) {}
+
+  const Kernel& kernel() const { return kernel_; }
+  const BodyForce<D, Real>& body_force() const { return body_; }
+  void set_body_force(const BodyForce<D, Real>& body) { body_ = body; }
+
+  // f(i) ← f_i of eq. (5) and drho(i) ← dρ_i/dt of eq. (4) for every particle, from the packed
+  // rows; `list` must be a full list of reach ≥ the kernel's support. With `walls` non-empty the
+  // viscous term of fluid–wall pairs uses Morris' extrapolated wall velocity with factor `morris`.
+  void compute(const SphRows<D, Real, ExecSpace>& rows, const int_view& type,
+               const NeighborList<D, Real, ExecSpace>& list, const Box<D, Real>& box, const vector_view& f,
+               const scalar_view& drho, const WallGeometry<D, Real, ExecSpace>& walls = {},
+               const MorrisWallFactor<Real>& morris = MorrisWallFactor<Real>()) const {
+    if (list.kind() != NeighborListKind::full)
+      throw std::invalid_argument("sph: the pair loop needs a full neighbor list");
+    if (list.cutoff() < kernel_.support)
+      throw std::invalid_argument("sph: the neighbor list's cutoff is below the kernel support");
+    if (walls.extent(0) > 0)
+      run<true>(rows, type, list, box, f, drho, walls, morris);
+    else
+      run<false>(rows, type, list, box, f, drho, walls, morris);
+  }
+
+ private:
+  template <bool Morris>
+  void run(const SphRows<D, Real, ExecSpace>& rows, const int_view& type, const NeighborList<D, Real, ExecSpace>& list,
+           const Box<D, Real>& box, const vector_view& f, const scalar_view& drho,
+           const WallGeometry<D, Real, ExecSpace>& walls, const MorrisWallFactor<Real>& morris) const {
+    using C = SphColumn<D>;
+    const auto kernel = kernel_;
+    const auto body = body_;
+    const auto nbr = list.data();
+    const Real support2 = kernel_.support2;
+    Kokkos::parallel_for(
+        "mesoflow::sph::pair_interactions", Kokkos::RangePolicy<ExecSpace>(0, rows.extent(0)),
+        KOKKOS_LAMBDA(int row) {
+          const int i = nbr.particle(row);
+          Vec<D, Real> xi, ui;
+          for (int d = 0; d < D; ++d) {
+            xi[d] = rows(i, C::x + d);
+            ui[d] = rows(i, C::u + d);
+          }
+          const Real inv_rho_i = rows(i, C::inv_rho);
+          const Real p_rho2_i = rows(i, C::p_over_rho2);
+          const Real mu_i = rows(i, C::mu);
+          const int ti = type(i);
+          [[maybe_unused]] const bool wall_i = is_fixed(ti);
+          double rate = 0;
+          double fi[D] = {};
+          const int nn = nbr.num_neighbors(row);
+          for (int k = 0; k < nn; ++k) {
+            const int j = nbr.neighbor(row, k);
+            Vec<D, Real> dr, uij;
+            for (int d = 0; d < D; ++d) dr[d] = xi[d] - rows(j, C::x + d);
+            box.minimum_image_near(dr);
+            const Real r2 = norm2(dr);
+            if (r2 >= support2) continue;
+            const Real dW_over_r = kernel.derivative_over_r(kmath::sqrt(r2));
+            for (int d = 0; d < D; ++d) uij[d] = ui[d] - rows(j, C::u + d);
+            const Real m_j = rows(j, C::mass);
+            rate += double(ContinuityDensity<D, Real>::rate(m_j, dW_over_r, dr, uij));
+            Vec<D, Real> vij = uij;
+            if constexpr (Morris) {
+              if (wall_i != is_fixed(type(j))) {
+                const int w = wall_i ? i : j;
+                Real offset = 0;  // (x_fluid − x_wall)·n_wall
+                for (int d = 0; d < D; ++d) offset += dr[d] * walls(w, d);
+                vij *= morris(wall_i ? -offset : offset, walls(w, wall_depth_column<D>));
+              }
+            }
+            const Vec<D, Real> fij = PressureViscousForce<D, Real>::pair(
+                m_j, p_rho2_i, rows(j, C::p_over_rho2), mu_i, rows(j, C::mu), inv_rho_i, rows(j, C::inv_rho),
+                dW_over_r, dr, vij);
+            for (int d = 0; d < D; ++d) fi[d] += double(fij[d]);
+          }
+          const double m_i = double(rows(i, C::mass));
+          for (int d = 0; d < D; ++d) f(i, d) = Real(m_i * (fi[d] + double(body.component(ti, d))));
+          drho(i) = Real(rate);
+        });
+  }
+
+  Kernel kernel_;
+  BodyForce<D, Real> body_;
+};
+
+}  // namespace mesoflow::sph

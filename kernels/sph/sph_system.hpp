@@ -1,0 +1,169 @@
+// sph_system.hpp — a weakly compressible SPH particle system and its time step (paper §2.2, §2.5):
+// the composition of the SPH terms that tests, benchmarks and scenes share.
+//
+// A step (sph_integrator.hpp, eqs. 11–16): half kick, half density update, extrapolated velocity ū
+// and drift; neighbor-list upkeep (a full list of reach support + skin, rebuilt when a particle has
+// moved more than half the skin; every `sort_every` rebuilds the particles are reordered in memory
+// by cell, as MdpdSystem does); the packed rows with the pressures of eq. (6); the fused pair loop,
+// ρ̇ of eq. (4) and f of eq. (5) with the body force (sph_pair_interactions.hpp; walls as chosen in
+// SphOptions::wall_velocity, no_slip_walls.hpp); second half kick and density update.
+//
+// Per particle: Particles' x, v, f, mass, type (particle_types.hpp: fluid or fixed wall), and here
+// rho, drho (ρ̇ of the last force evaluation), pressure, mu (dynamic viscosity), u_bar (ū), and
+// wall_geometry for Morris walls.
+// allocate() sets ρ = ρ0, μ = 0, unit mass, type fluid; set them for the scene before begin().
+#pragma once
+
+#include "kernels/common/neighbor_list.hpp"
+#include "kernels/common/particle_sort.hpp"
+#include "kernels/common/velocity_verlet.hpp"
+#include "no_slip_walls.hpp"
+#include "smoothing_kernels.hpp"
+#include "sph_integrator.hpp"
+#include "sph_pair_interactions.hpp"
+#include "sph_time_step.hpp"
+
+#include <optional>
+#include <stdexcept>
+#include <string>
+
+namespace mesoflow::sph {
+
+struct SphOptions {
+  double skin_fraction = 0.1;  // neighbor skin in units of the kernel support
+  int cells_per_reach = 1;     // neighbor-list binning (neighbor_list.hpp)
+  int sort_every = 20;         // rebuilds between memory reorderings; 0: never
+  WallVelocity wall_velocity = WallVelocity::prescribed;  // the paper's walls (no_slip_walls.hpp)
+  double beta_max = 8.0;       // cap of Morris' wall factor β (no_slip_walls.hpp)
+};
+
+template <int D, class Real, class ExecSpace = Kokkos::DefaultExecutionSpace, class Kernel = LucyKernel<D, Real>>
+class SphSystem {
+ public:
+  using vector_view = typename Particles<D, Real, ExecSpace>::vector_view;
+  using scalar_view = Kokkos::View<Real*, ExecSpace>;
+
+  SphSystem(const Kernel& kernel, const TaitEquationOfState<Real>& eos, const Box<D, Real>& box, Real dt,
+            const SphOptions& opt = {})
+      : kernel_(kernel),
+        eos_(eos),
+        box_(box),
+        opt_(opt),
+        pair_(kernel, BodyForce<D, Real>{}),
+        integrator_(dt),
+        morris_(opt.beta_max) {
+    if (!(opt.skin_fraction >= 0 && opt.skin_fraction <= 1))
+      throw std::invalid_argument("sph: skin_fraction must be in [0, 1], got " + std::to_string(opt.skin_fraction));
+    if (opt.sort_every < 0)
+      throw std::invalid_argument("sph: sort_every must be >= 0, got " + std::to_string(opt.sort_every));
+  }
+
+  // Fresh storage for n fluid particles of unit mass at ρ = ρ0, μ = 0.
+  void allocate(int n) {
+    particles.allocate(std::size_t(n), "sph");
+    rho = scalar_view(Kokkos::ViewAllocateWithoutInitializing("mesoflow::sph::rho"), n);
+    drho = scalar_view("mesoflow::sph::drho", n);
+    pressure = scalar_view("mesoflow::sph::pressure", n);
+    mu = scalar_view("mesoflow::sph::mu", n);
+    u_bar = vector_view("mesoflow::sph::u_bar", n);
+    rows_ = SphRows<D, Real, ExecSpace>("mesoflow::sph::rows", n);
+    Kokkos::deep_copy(rho, eos_.rho0);
+    if (opt_.wall_velocity == WallVelocity::morris)
+      wall_geometry = WallGeometry<D, Real, ExecSpace>("mesoflow::sph::wall_geometry", n);
+  }
+
+  void set_body_force(const BodyForce<D, Real>& body) { pair_.set_body_force(body); }
+  void set_dt(Real dt) { integrator_.set_dt(dt); }
+
+  // Call once the particles are placed and their types, masses, densities and viscosities set:
+  // builds the list and evaluates ρ̇ and f at the current state, with ū = v.
+  void begin() {
+    const auto v = particles.v, ub = u_bar;
+    Kokkos::parallel_for(
+        "mesoflow::sph::initial_u_bar", Kokkos::RangePolicy<ExecSpace>(0, particles.size()), KOKKOS_LAMBDA(int i) {
+          for (int d = 0; d < D; ++d) ub(i, d) = v(i, d);
+        });
+    list_.emplace(kernel_.support, Real(opt_.skin_fraction * double(kernel_.support)), NeighborListKind::full,
+                  BodyExclusion::none, opt_.cells_per_reach);
+    builds_since_sort_ = 0;
+    compute_rates();
+  }
+
+  void step() {
+    integrator_.first_half(particles, rho, drho, u_bar);
+    compute_rates();
+    integrator_.second_half(particles, rho, drho);
+    ++step_;
+  }
+
+  // The stability limits at the current state (a host reduction: not every step).
+  SphTimeStepLimits time_step_limits(const SphTimeStepCoefficients& c = {}) const {
+    const auto mu_ = mu, rho_ = rho;
+    const auto type = particles.type;
+    double nu_max = 0, c_max = 0;
+    const auto eos = eos_;
+    Kokkos::parallel_reduce(
+        "mesoflow::sph::max_viscosity", Kokkos::RangePolicy<ExecSpace>(0, particles.size()),
+        KOKKOS_LAMBDA(int i, double& nu) {
+          const double nu_i = double(mu_(i)) / double(rho_(i));
+          if (nu_i > nu) nu = nu_i;
+        },
+        Kokkos::Max<double>(nu_max));
+    Kokkos::parallel_reduce(
+        "mesoflow::sph::max_sound_speed", Kokkos::RangePolicy<ExecSpace>(0, particles.size()),
+        KOKKOS_LAMBDA(int i, double& c) {
+          const double c_i = is_fixed(type(i)) ? 0.0 : double(eos.sound_speed(rho_(i)));
+          if (c_i > c) c = c_i;
+        },
+        Kokkos::Max<double>(c_max));
+    if (!(c_max > 0)) c_max = double(eos_.c0);
+    return sph_time_step_limits(time_step_length(kernel_), nu_max, c_max, max_fluid_acceleration(particles), c);
+  }
+
+  const Kernel& kernel() const { return kernel_; }
+  const TaitEquationOfState<Real>& equation_of_state() const { return eos_; }
+  const Box<D, Real>& box() const { return box_; }
+  const NeighborList<D, Real, ExecSpace>& neighbor_list() const { return *list_; }
+  Real dt() const { return integrator_.dt(); }
+  long long current_step() const { return step_; }
+  int num_sorts() const { return num_sorts_; }
+
+  Particles<D, Real, ExecSpace> particles;
+  scalar_view rho;       // ρ (integrated by eqs. 12, 16)
+  scalar_view drho;      // ρ̇ of the last evaluation of eq. (4)
+  scalar_view pressure;  // p(ρ) of eq. (6) at the last evaluation
+  scalar_view mu;        // dynamic viscosity
+  vector_view u_bar;     // ū of eq. (13)
+  // With WallVelocity::morris: per wall particle the unit normal into the fluid and the depth below
+  // the wall surface (no_slip_walls.hpp); empty otherwise.
+  WallGeometry<D, Real, ExecSpace> wall_geometry;
+
+ private:
+  void compute_rates() {
+    if (list_->update(particles, box_)) {
+      wrap_positions(particles, box_);
+      if (opt_.sort_every > 0 && ++builds_since_sort_ >= opt_.sort_every) {
+        sort_particles_by_cell(particles, list_->cells(), rho, drho, pressure, mu, u_bar, wall_geometry);
+        list_->build(particles, box_);
+        builds_since_sort_ = 0;
+        ++num_sorts_;
+      }
+    }
+    pack_sph_rows(particles, u_bar, rho, mu, eos_, rows_, pressure);
+    pair_.compute(rows_, particles.type, *list_, box_, particles.f, drho, wall_geometry, morris_);
+  }
+
+  Kernel kernel_;
+  TaitEquationOfState<Real> eos_;
+  Box<D, Real> box_;
+  SphOptions opt_;
+  SphPairInteractions<D, Real, ExecSpace, Kernel> pair_;
+  SphIntegrator<D, Real, ExecSpace> integrator_;
+  std::optional<NeighborList<D, Real, ExecSpace>> list_;
+  SphRows<D, Real, ExecSpace> rows_;
+  MorrisWallFactor<Real> morris_;
+  long long step_ = 0;
+  int builds_since_sort_ = 0, num_sorts_ = 0;
+};
+
+}  // namespace mesoflow::sph
