@@ -7,6 +7,10 @@
 // The order is cells.cell_particles() of the cell list's last build: slot s receives the particle
 // that occupied slot s then. Any permutation is valid, so a cell list built from slightly older
 // positions only costs a little locality. Deterministic: cells list their particles by index.
+//
+// Indices that name particles (bond ends, a body's vertex → particle map) are renumbered, not
+// permuted: invert_permutation() turns the order into new_index(old) = new slot, and
+// renumber_particle_indices() maps every entry of an index view through it.
 #pragma once
 
 #include "cell_list.hpp"
@@ -65,6 +69,37 @@ void sort_particles_by_cell(const Particles<D, Real, ExecSpace>& p, const CellLi
   sort_detail::permute(p.body, order);
   sort_detail::permute(p.type, order);
   (sort_detail::permute(extra, order), ...);
+}
+
+// new_index(order(s)) ← s: for a sort by `order` (cell_particles() of the cell list it used, read
+// before that list is rebuilt), the slot where the particle formerly at index i now lives.
+template <class OrderView, class IndexView>
+void invert_permutation(const OrderView& order, const IndexView& new_index) {
+  using exec = typename IndexView::execution_space;
+  if (order.extent(0) != new_index.extent(0))
+    throw std::invalid_argument("invert_permutation: a permutation of " + std::to_string(order.extent(0)) +
+                                " into a view of " + std::to_string(new_index.extent(0)));
+  Kokkos::parallel_for(
+      "mesoflow::particle_sort::invert_permutation", Kokkos::RangePolicy<exec>(0, int(order.extent(0))),
+      KOKKOS_LAMBDA(int s) { new_index(order(s)) = s; });
+}
+
+// a(...) ← new_index(a(...)) for every entry of a rank-1 or rank-2 view of particle indices.
+template <class IndexView, class NewIndexView>
+void renumber_particle_indices(const IndexView& a, const NewIndexView& new_index) {
+  using exec = typename IndexView::execution_space;
+  const int n = int(a.extent(0));
+  if constexpr (IndexView::rank == 1) {
+    Kokkos::parallel_for(
+        "mesoflow::particle_sort::renumber", Kokkos::RangePolicy<exec>(0, n),
+        KOKKOS_LAMBDA(int r) { a(r) = new_index(a(r)); });
+  } else {
+    const int cols = int(a.extent(1));
+    Kokkos::parallel_for(
+        "mesoflow::particle_sort::renumber", Kokkos::RangePolicy<exec>(0, n), KOKKOS_LAMBDA(int r) {
+          for (int c = 0; c < cols; ++c) a(r, c) = new_index(a(r, c));
+        });
+  }
 }
 
 }  // namespace mesoflow

@@ -8,6 +8,13 @@
 // (no penetration) and dragged by its zero velocity through the viscous term (no slip). This is
 // what the paper's DMP model does with its fixed boundary particles (LAMMPS' `fix sph/stationary`:
 // density integrated, position and velocity not).
+//
+// The capsule scene (§3, Fig. 1: four types) adds membrane particles — MSM and SPH particles at
+// once (§2.4), moving like fluid, with bond forces on top (kernels/msm) — and the inner fluid, the
+// fluid enclosed by the membrane: SPH fluid like the outer one, its own type so that it can carry
+// its own viscosity (set per particle in SphSystem::mu) and be told apart in analysis. The body
+// force of eq. (2) drives the fluids only, outer and inner (§4: "fluid particles are accelerated in
+// the x-direction"): not walls, not membrane particles, which the fluid carries.
 #pragma once
 
 #include <Kokkos_Core.hpp>
@@ -17,6 +24,8 @@ namespace mesoflow::sph {
 namespace particle_type {
 constexpr int fluid = 0;
 constexpr int wall = 1;  // fixed boundary particle: zero velocity, never moves
+constexpr int membrane = 2;  // MSM membrane particle: moves as fluid does, bond forces add (kernels/msm)
+constexpr int inner_fluid = 3;  // fluid inside a capsule (§3, Fig. 1a: white); outer fluid is `fluid`
 }  // namespace particle_type
 
 KOKKOS_INLINE_FUNCTION bool is_fixed(int type) { return type == particle_type::wall; }

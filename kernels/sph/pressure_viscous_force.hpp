@@ -16,7 +16,8 @@
 // nearest-neighbour distance of a Lucy kernel.
 //
 // F is the volumetric body force of eq. (2), a force per unit mass (acceleration); it acts on fluid
-// particles only (walls do not move, particle_types.hpp).
+// particles only, outer and inner (walls do not move; membrane particles are carried by the fluid:
+// the paper accelerates the fluid particles, §4; particle_types.hpp).
 //
 // Both pair terms are antisymmetric in (i, j) — a symmetric coefficient times r_ij or u_ij — so
 // the pair forces conserve momentum; the evaluator returns f_ij/m_i and the loop multiplies by m_i
@@ -43,7 +44,7 @@ struct PressureViscousForce {
   }
 };
 
-// The body force F of eq. (5), per unit mass, on fluid particles.
+// The body force F of eq. (5), per unit mass, on fluid particles (outer and inner).
 template <int D, class Real>
 struct BodyForce {
   Real g[D] = {};
@@ -53,8 +54,10 @@ struct BodyForce {
       if (g[d] != Real(0)) return true;
     return false;
   }
-  // F on a particle of this type (zero on walls).
-  KOKKOS_INLINE_FUNCTION Real component(int type, int d) const { return is_fixed(type) ? Real(0) : g[d]; }
+  // F on a particle of this type (zero on walls and membrane particles).
+  KOKKOS_INLINE_FUNCTION Real component(int type, int d) const {
+    return (type == particle_type::fluid || type == particle_type::inner_fluid) ? g[d] : Real(0);
+  }
 };
 
 }  // namespace mesoflow::sph

@@ -4,9 +4,12 @@
 // the same positions and extrapolated velocities (sph_integrator.hpp), so fusing them reads each
 // pair once and evaluates the kernel gradient once.
 //
-// Full list only: each row sums its own particle's ρ̇ and force in list order — deterministic for
-// any thread count, no atomics. Sums accumulate in double whatever Real is (the pressure terms of
-// a nearly uniform fluid cancel to a small remainder).
+// Full list: each row sums its own particle's ρ̇ and force in list order — deterministic for any
+// thread count, no atomics. Half list: each pair once — one kernel gradient and one pair term for
+// both ends, the pair terms being antisymmetric (pressure and viscous) or symmetric (density rate)
+// in i ↔ j — with j's share scattered through a ScatterView (duplicated per thread on OpenMP, so
+// reproducible at a fixed thread count, atomic on GPUs). Sums accumulate in double whatever Real
+// is (the pressure terms of a nearly uniform fluid cancel to a small remainder).
 //
 // Walls (particle_types.hpp) show their own velocity in the viscous term, or, with a wall geometry,
 // the fluid velocity extrapolated through their surface (Morris et al. 1997, no_slip_walls.hpp);
@@ -26,6 +29,8 @@
 #include "particle_types.hpp"
 #include "pressure_viscous_force.hpp"
 #include "tait_equation_of_state.hpp"
+
+#include <Kokkos_ScatterView.hpp>
 
 #include <stdexcept>
 
@@ -92,20 +97,21 @@ class SphPairInteractions {
   void set_body_force(const BodyForce<D, Real>& body) { body_ = body; }
 
   // f(i) ← f_i of eq. (5) and drho(i) ← dρ_i/dt of eq. (4) for every particle, from the packed
-  // rows; `list` must be a full list of reach ≥ the kernel's support. With `walls` non-empty the
+  // rows; `list` must be a neighbor list (full or half) of reach ≥ the kernel's support. With `walls` non-empty the
   // viscous term of fluid–wall pairs uses Morris' extrapolated wall velocity with factor `morris`.
   void compute(const SphRows<D, Real, ExecSpace>& rows, const int_view& type,
                const NeighborList<D, Real, ExecSpace>& list, const Box<D, Real>& box, const vector_view& f,
                const scalar_view& drho, const WallGeometry<D, Real, ExecSpace>& walls = {},
-               const MorrisWallFactor<Real>& morris = MorrisWallFactor<Real>()) const {
-    if (list.kind() != NeighborListKind::full)
-      throw std::invalid_argument("sph: the pair loop needs a full neighbor list");
+               const MorrisWallFactor<Real>& morris = MorrisWallFactor<Real>()) {
     if (list.cutoff() < kernel_.support)
       throw std::invalid_argument("sph: the neighbor list's cutoff is below the kernel support");
+    const bool half = list.kind() == NeighborListKind::half;
     if (walls.extent(0) > 0)
-      run<true>(rows, type, list, box, f, drho, walls, morris);
+      half ? run_half<true>(rows, type, list, box, f, drho, walls, morris)
+           : run<true>(rows, type, list, box, f, drho, walls, morris);
     else
-      run<false>(rows, type, list, box, f, drho, walls, morris);
+      half ? run_half<false>(rows, type, list, box, f, drho, walls, morris)
+           : run<false>(rows, type, list, box, f, drho, walls, morris);
   }
 
  private:
@@ -166,8 +172,95 @@ class SphPairInteractions {
         });
   }
 
+  // Half list: per pair T_ij = (pressure + viscous term of eq. 5)/m_j, antisymmetric, and the
+  // symmetric rate factor of eq. (4); i gains m_j T_ij and m_j R_ij, j loses m_i T_ij and gains
+  // m_i R_ij. acc(i) holds Σ_j f_ij/m_i (D columns) and ρ̇_i (column D).
+  template <bool Morris>
+  void run_half(const SphRows<D, Real, ExecSpace>& rows, const int_view& type,
+                const NeighborList<D, Real, ExecSpace>& list, const Box<D, Real>& box, const vector_view& f,
+                const scalar_view& drho, const WallGeometry<D, Real, ExecSpace>& walls,
+                const MorrisWallFactor<Real>& morris) {
+    using C = SphColumn<D>;
+    const int n = int(rows.extent(0));
+    if (int(acc_.extent(0)) != n) {
+      acc_ = Kokkos::View<double* [D + 1], ExecSpace>("mesoflow::sph::pair_sums", n);
+      scatter_ = Kokkos::Experimental::create_scatter_view(acc_);
+    }
+    const auto acc = acc_;
+    Kokkos::parallel_for(
+        "mesoflow::sph::zero_pair_sums", Kokkos::RangePolicy<ExecSpace>(0, n), KOKKOS_LAMBDA(int i) {
+          for (int d = 0; d <= D; ++d) acc(i, d) = 0.0;
+        });
+    scatter_.reset_except(acc_);
+    auto scatter = scatter_;
+    const auto kernel = kernel_;
+    const auto nbr = list.data();
+    const Real support2 = kernel_.support2;
+    Kokkos::parallel_for(
+        "mesoflow::sph::pair_interactions_half", Kokkos::RangePolicy<ExecSpace>(0, n), KOKKOS_LAMBDA(int row) {
+          auto access = scatter.access();
+          const int i = nbr.particle(row);
+          Vec<D, Real> xi, ui;
+          for (int d = 0; d < D; ++d) {
+            xi[d] = rows(i, C::x + d);
+            ui[d] = rows(i, C::u + d);
+          }
+          const Real m_i = rows(i, C::mass);
+          const Real inv_rho_i = rows(i, C::inv_rho);
+          const Real p_rho2_i = rows(i, C::p_over_rho2);
+          const Real mu_i = rows(i, C::mu);
+          [[maybe_unused]] const bool wall_i = Morris ? is_fixed(type(i)) : false;
+          double rate = 0;
+          double fi[D] = {};
+          const int nn = nbr.num_neighbors(row);
+          for (int k = 0; k < nn; ++k) {
+            const int j = nbr.neighbor(row, k);
+            Vec<D, Real> dr, uij;
+            for (int d = 0; d < D; ++d) dr[d] = xi[d] - rows(j, C::x + d);
+            box.minimum_image_near(dr);
+            const Real r2 = norm2(dr);
+            if (r2 >= support2) continue;
+            const Real dW_over_r = kernel.derivative_over_r(kmath::sqrt(r2));
+            for (int d = 0; d < D; ++d) uij[d] = ui[d] - rows(j, C::u + d);
+            const Real m_j = rows(j, C::mass);
+            const Real r_ij = ContinuityDensity<D, Real>::rate(Real(1), dW_over_r, dr, uij);
+            rate += double(m_j * r_ij);
+            Vec<D, Real> vij = uij;
+            if constexpr (Morris) {
+              if (wall_i != is_fixed(type(j))) {
+                const int w = wall_i ? i : j;
+                Real offset = 0;  // (x_fluid − x_wall)·n_wall
+                for (int d = 0; d < D; ++d) offset += dr[d] * walls(w, d);
+                vij *= morris(wall_i ? -offset : offset, walls(w, wall_depth_column<D>));
+              }
+            }
+            const Vec<D, Real> t_ij = PressureViscousForce<D, Real>::pair(
+                Real(1), p_rho2_i, rows(j, C::p_over_rho2), mu_i, rows(j, C::mu), inv_rho_i, rows(j, C::inv_rho),
+                dW_over_r, dr, vij);
+            for (int d = 0; d < D; ++d) {
+              fi[d] += double(m_j * t_ij[d]);
+              access(j, d) -= double(m_i * t_ij[d]);
+            }
+            access(j, D) += double(m_i * r_ij);
+          }
+          for (int d = 0; d < D; ++d) access(i, d) += fi[d];
+          access(i, D) += rate;
+        });
+    Kokkos::Experimental::contribute(acc_, scatter_);
+    const auto body = body_;
+    const auto m = Kokkos::subview(rows, Kokkos::ALL, int(C::mass));
+    Kokkos::parallel_for(
+        "mesoflow::sph::unpack_pair_sums", Kokkos::RangePolicy<ExecSpace>(0, n), KOKKOS_LAMBDA(int i) {
+          const int ti = type(i);
+          for (int d = 0; d < D; ++d) f(i, d) = Real(double(m(i)) * (acc(i, d) + double(body.component(ti, d))));
+          drho(i) = Real(acc(i, D));
+        });
+  }
+
   Kernel kernel_;
   BodyForce<D, Real> body_;
+  Kokkos::View<double* [D + 1], ExecSpace> acc_;
+  decltype(Kokkos::Experimental::create_scatter_view(Kokkos::View<double* [D + 1], ExecSpace>())) scatter_;
 };
 
 }  // namespace mesoflow::sph

@@ -8,10 +8,24 @@
 // ρ̇ of eq. (4) and f of eq. (5) with the body force (sph_pair_interactions.hpp; walls as chosen in
 // SphOptions::wall_velocity, no_slip_walls.hpp); second half kick and density update.
 //
-// Per particle: Particles' x, v, f, mass, type (particle_types.hpp: fluid or fixed wall), and here
-// rho, drho (ρ̇ of the last force evaluation), pressure, mu (dynamic viscosity), u_bar (ū), and
-// wall_geometry for Morris walls.
+// Per particle: Particles' x, v, f, mass, type (particle_types.hpp: fluid, inner fluid, fixed wall
+// or membrane), and here rho, drho (ρ̇ of the last force evaluation), pressure, mu (dynamic
+// viscosity), u_bar (ū), and wall_geometry for Morris walls.
 // allocate() sets ρ = ρ0, μ = 0, unit mass, type fluid; set them for the scene before begin().
+//
+// Forces beyond the SPH terms (the membrane bonds of eq. 7, kernels/msm): begin(extra) and
+// step(extra) call the host-side functor extra(particles) right after the pair loop has assigned
+// f^{n+1} and before the second half kick of eq. (15), so whatever it adds to particles.f enters
+// eqs. (15) and, at the next step, (11) and (13): f_i = (eq. 5)_i + extra_i. begin() and step()
+// are begin(extra) and step(extra) with nothing extra. time_step_limits() sees the extra forces
+// in the accelerations only; a stiff extra term brings its own limit (bonds:
+// HarmonicBonds::time_step_limit), which the scene combines with these.
+//
+// Memory sorting moves particles to other indices. Whatever names particles by index (bond ends)
+// must follow: after each sort, last_sort_new_index()(i) is the new index of the particle that was
+// at index i, and num_sorts() counts the sorts; a scene compares num_sorts() with the count it
+// has seen, from its extra functor (which runs after any sort of that step), and renumbers with
+// renumber_particle_indices() (kernels/common/particle_sort.hpp).
 #pragma once
 
 #include "kernels/common/neighbor_list.hpp"
@@ -29,7 +43,16 @@
 
 namespace mesoflow::sph {
 
+// The extra functor of begin() and step(): adds nothing.
+struct NoExtraForces {
+  template <class P>
+  void operator()(const P&) const {}
+};
+
 struct SphOptions {
+  // half: each pair once, forces scattered (reproducible at a fixed thread count); full: each row
+  // sums its own particle (the same bits on every backend and thread count).
+  NeighborListKind list_kind = NeighborListKind::half;
   double skin_fraction = 0.1;  // neighbor skin in units of the kernel support
   int cells_per_reach = 1;     // neighbor-list binning (neighbor_list.hpp)
   int sort_every = 20;         // rebuilds between memory reorderings; 0: never
@@ -42,6 +65,7 @@ class SphSystem {
  public:
   using vector_view = typename Particles<D, Real, ExecSpace>::vector_view;
   using scalar_view = Kokkos::View<Real*, ExecSpace>;
+  using int_view = Kokkos::View<int*, ExecSpace>;
 
   SphSystem(const Kernel& kernel, const TaitEquationOfState<Real>& eos, const Box<D, Real>& box, Real dt,
             const SphOptions& opt = {})
@@ -70,28 +94,40 @@ class SphSystem {
     Kokkos::deep_copy(rho, eos_.rho0);
     if (opt_.wall_velocity == WallVelocity::morris)
       wall_geometry = WallGeometry<D, Real, ExecSpace>("mesoflow::sph::wall_geometry", n);
+    if (opt_.sort_every > 0) sort_new_index_ = int_view("mesoflow::sph::sort_new_index", n);
   }
 
   void set_body_force(const BodyForce<D, Real>& body) { pair_.set_body_force(body); }
   void set_dt(Real dt) { integrator_.set_dt(dt); }
 
   // Call once the particles are placed and their types, masses, densities and viscosities set:
-  // builds the list and evaluates ρ̇ and f at the current state, with ū = v.
-  void begin() {
+  // builds the list and evaluates ρ̇ and f at the current state, with ū = v; then extra(particles)
+  // adds its forces to f.
+  void begin() { begin(NoExtraForces{}); }
+
+  template <class ExtraForces>
+  void begin(ExtraForces&& extra) {
     const auto v = particles.v, ub = u_bar;
     Kokkos::parallel_for(
         "mesoflow::sph::initial_u_bar", Kokkos::RangePolicy<ExecSpace>(0, particles.size()), KOKKOS_LAMBDA(int i) {
           for (int d = 0; d < D; ++d) ub(i, d) = v(i, d);
         });
-    list_.emplace(kernel_.support, Real(opt_.skin_fraction * double(kernel_.support)), NeighborListKind::full,
+    list_.emplace(kernel_.support, Real(opt_.skin_fraction * double(kernel_.support)), opt_.list_kind,
                   BodyExclusion::none, opt_.cells_per_reach);
     builds_since_sort_ = 0;
     compute_rates();
+    extra(particles);
   }
 
-  void step() {
+  void step() { step(NoExtraForces{}); }
+
+  // Eqs. (11)–(16), with extra(particles) adding its forces to f^{n+1} between the pair loop and
+  // the second half kick (eq. 15).
+  template <class ExtraForces>
+  void step(ExtraForces&& extra) {
     integrator_.first_half(particles, rho, drho, u_bar);
     compute_rates();
+    extra(particles);
     integrator_.second_half(particles, rho, drho);
     ++step_;
   }
@@ -127,6 +163,9 @@ class SphSystem {
   Real dt() const { return integrator_.dt(); }
   long long current_step() const { return step_; }
   int num_sorts() const { return num_sorts_; }
+  // After a sort: new_index(i) = the index of the particle that was at i before it (empty with
+  // sort_every = 0; stale until the first sort).
+  const int_view& last_sort_new_index() const { return sort_new_index_; }
 
   Particles<D, Real, ExecSpace> particles;
   scalar_view rho;       // ρ (integrated by eqs. 12, 16)
@@ -144,6 +183,7 @@ class SphSystem {
       wrap_positions(particles, box_);
       if (opt_.sort_every > 0 && ++builds_since_sort_ >= opt_.sort_every) {
         sort_particles_by_cell(particles, list_->cells(), rho, drho, pressure, mu, u_bar, wall_geometry);
+        invert_permutation(list_->cells().cell_particles(), sort_new_index_);
         list_->build(particles, box_);
         builds_since_sort_ = 0;
         ++num_sorts_;
@@ -161,6 +201,7 @@ class SphSystem {
   SphIntegrator<D, Real, ExecSpace> integrator_;
   std::optional<NeighborList<D, Real, ExecSpace>> list_;
   SphRows<D, Real, ExecSpace> rows_;
+  int_view sort_new_index_;
   MorrisWallFactor<Real> morris_;
   long long step_ = 0;
   int builds_since_sort_ = 0, num_sorts_ = 0;

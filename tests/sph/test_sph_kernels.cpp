@@ -226,8 +226,10 @@ auto host_copy(const View& v) {
 // `wall_every`-th particle a wall at rest with a random unit normal and depth (0: no walls).
 template <int D, class Real, class Exec>
 SphSystem<D, Real, Exec> random_cloud(double L, int n, double h, unsigned seed, int wall_every,
-                                      WallVelocity walls = WallVelocity::prescribed) {
+                                      WallVelocity walls = WallVelocity::prescribed,
+                                      NeighborListKind list = NeighborListKind::full) {
   SphOptions opt;
+  opt.list_kind = list;
   opt.sort_every = 0;  // keep particle order: the tests index particles
   opt.wall_velocity = walls;
   SphSystem<D, Real, Exec> sys(LucyKernel<D, Real>(Real(h)), TaitEquationOfState<Real>(1.0, 5.0),
@@ -336,10 +338,10 @@ class SphPairTest : public ::testing::Test {};
 TYPED_TEST_SUITE(SphPairTest, testing::BackendsAndPrecisions);
 
 template <int D, class Real, class Exec>
-void expect_matches_brute_force(WallVelocity walls) {
+void expect_matches_brute_force(WallVelocity walls, NeighborListKind list) {
   const double L = D == 3 ? 6.0 : 9.0, h = 1.6;
   const int n = D == 3 ? 700 : 300;
-  auto sys = random_cloud<D, Real, Exec>(L, n, h, 11, 4, walls);
+  auto sys = random_cloud<D, Real, Exec>(L, n, h, 11, 4, walls, list);
   BodyForce<D, Real> body;
   BodyForce<D, double> body_d;
   for (int d = 0; d < D; ++d) {
@@ -364,19 +366,22 @@ void expect_matches_brute_force(WallVelocity walls) {
   const double tol = 200 * testing::eps<Real>();
   EXPECT_GT(f_scale, 1.0);
   EXPECT_GT(rate_scale, 1.0);
-  EXPECT_LT(f_err / f_scale, tol) << D << "D";
-  EXPECT_LT(rate_err / rate_scale, tol) << D << "D";
+  const char* kind = list == NeighborListKind::half ? "half" : "full";
+  EXPECT_LT(f_err / f_scale, tol) << D << "D, " << kind << " list";
+  EXPECT_LT(rate_err / rate_scale, tol) << D << "D, " << kind << " list";
 }
 
-// The fused loop over a full list gives eqs. (4)–(5) plus the body force, as an all-pairs sum does:
-// walls at rest, the paper's walls and Morris walls, 3D and 2D.
+// The fused loop over a full or a half list gives eqs. (4)–(5) plus the body force, as an
+// all-pairs sum does: walls at rest, the paper's walls and Morris walls, 3D and 2D.
 TYPED_TEST(SphPairTest, MatchesAllPairsEvaluationOfEquations4And5) {
   using Exec = typename TypeParam::exec;
   using Real = typename TypeParam::real;
-  expect_matches_brute_force<3, Real, Exec>(WallVelocity::prescribed);
-  expect_matches_brute_force<3, Real, Exec>(WallVelocity::morris);
-  expect_matches_brute_force<2, Real, Exec>(WallVelocity::prescribed);
-  expect_matches_brute_force<2, Real, Exec>(WallVelocity::morris);
+  for (auto list : {NeighborListKind::full, NeighborListKind::half}) {
+    expect_matches_brute_force<3, Real, Exec>(WallVelocity::prescribed, list);
+    expect_matches_brute_force<3, Real, Exec>(WallVelocity::morris, list);
+    expect_matches_brute_force<2, Real, Exec>(WallVelocity::prescribed, list);
+    expect_matches_brute_force<2, Real, Exec>(WallVelocity::morris, list);
+  }
 }
 
 // Σ_i f_i = 0 for a random cloud without walls and body force (random masses, densities,
@@ -385,23 +390,25 @@ TYPED_TEST(SphPairTest, MatchesAllPairsEvaluationOfEquations4And5) {
 TYPED_TEST(SphPairTest, PairForcesConserveMomentum) {
   using Exec = typename TypeParam::exec;
   using Real = typename TypeParam::real;
-  for (auto walls : {WallVelocity::prescribed, WallVelocity::morris}) {
-    const int n = 1000;
-    auto sys = random_cloud<3, Real, Exec>(7.0, n, 1.6, 5, walls == WallVelocity::morris ? 3 : 0, walls);
-    sys.begin();
-    const auto f = host_copy(sys.particles.f);
-    double sum[3] = {0, 0, 0}, magnitude = 0;
-    for (int i = 0; i < n; ++i)
-      for (int d = 0; d < 3; ++d) {
-        sum[d] += double(f(i, d));
-        magnitude += std::abs(double(f(i, d)));
-      }
-    double worst = 0;
-    for (int d = 0; d < 3; ++d) worst = std::max(worst, std::abs(sum[d]) / magnitude);
-    std::cout << "[ measured ] |Σ f| / Σ|f| = " << worst << (walls == WallVelocity::morris ? " (Morris walls)" : "")
-              << " (" << (sizeof(Real) == 4 ? "float" : "double") << ")\n";
-    EXPECT_GT(magnitude, 1.0);
-    EXPECT_LT(worst, 16 * testing::eps<Real>());
+  for (auto list : {NeighborListKind::full, NeighborListKind::half}) {
+    for (auto walls : {WallVelocity::prescribed, WallVelocity::morris}) {
+      const int n = 1000;
+      auto sys = random_cloud<3, Real, Exec>(7.0, n, 1.6, 5, walls == WallVelocity::morris ? 3 : 0, walls, list);
+      sys.begin();
+      const auto f = host_copy(sys.particles.f);
+      double sum[3] = {0, 0, 0}, magnitude = 0;
+      for (int i = 0; i < n; ++i)
+        for (int d = 0; d < 3; ++d) {
+          sum[d] += double(f(i, d));
+          magnitude += std::abs(double(f(i, d)));
+        }
+      double worst = 0;
+      for (int d = 0; d < 3; ++d) worst = std::max(worst, std::abs(sum[d]) / magnitude);
+      std::cout << "[ measured ] |Σ f| / Σ|f| = " << worst << (walls == WallVelocity::morris ? " (Morris walls)" : "")
+                << " (" << (sizeof(Real) == 4 ? "float" : "double") << ")\n";
+      EXPECT_GT(magnitude, 1.0);
+      EXPECT_LT(worst, 16 * testing::eps<Real>());
+    }
   }
 }
 

@@ -1,0 +1,517 @@
+// capsule_scene.hpp — a microcapsule in SPH fluid, the Discrete Multi-Physics model of the capsule
+// paper (sph-microcapsules-constriction §2–§3): composes the SPH system (kernels/sph: eqs. 1–6,
+// 11–16) with the membrane's mass-spring network (kernels/msm: eq. 7), owns the state, steps it and
+// measures the capsule. Physics stays in kernels/; this header only assembles it.
+//
+// Scene (§3, Fig. 1): a periodic box of n_x × n_y × n_z sites of a simple cubic lattice (spacing
+// Δx, sites at (i + ½)Δx) filled with SPH fluid, and the capsule's two-layer membrane
+// (msm::capsule_membrane: icospheres of radii a and a − h_t, level ℓ, bonds k_b, partner k_b and
+// diagonals 2/3 k_b, §3) centred in the box. Fluid sites in the shell, a − h_t − c < r < a + c with
+// the clearance c = clearance·Δx (½Δx: each layer's particles own half a spacing on either side),
+// are removed; sites with r ≤ a − h_t − c are inner fluid (particle_type::inner_fluid, viscosity
+// μ_in), the others outer fluid (particle_type::fluid, μ_out). Particles are stored outer fluid,
+// inner fluid, then the membrane (outer layer, inner layer: capsule_mesh.hpp's numbering) — until
+// the first memory sort.
+//
+// Membrane particles are SPH particles as well (§2.4: "at the same time MSM and SPH particles";
+// particle_type::membrane): ρ integrated by eq. (4), pressure by eq. (6), viscous term of eq. (5)
+// with μ_m (default μ_out, so that the pair viscosity μ_i + μ_j of eq. 5 is the outer fluid's at
+// the outer face; the paper's inner and outer fluids are equal unless stated, and then so are all
+// three). Masses: fluid ρ0 Δx³ (the paper's "density and viscosity of inner and outer fluids are
+// identical"); each membrane particle an equal share of the mass of the removed fluid sites, so
+// the capsule is neutrally buoyant and the mass per volume uniform (the paper gives no membrane
+// mass). All particles start at ρ = ρ0; the EOS (ρ0, c0, γ = 7) is shared (SphSystem has one).
+//
+// Initial shape: the membrane's positions — not its rest lengths — can be stretched by a diagonal
+// map S about the centre, e.g. S = (1 + ε, 1/√(1 + ε), 1/√(1 + ε)), a prolate volume-preserving
+// ellipsoid that relaxes back to the sphere of the rest lengths. The fluid is classified in the
+// same frame (a site p by |S⁻¹(p − c)|), so it fills the stretched capsule and its outside.
+// Initial velocities: the membrane and inner fluid can move at a common velocity, and every
+// particle can get uniform random noise of a given amplitude per component (host RNG: initial
+// conditions only), its net momentum removed.
+//
+// Step: SphSystem::step(extra), extra adding the bond forces of eq. (7) to f^{n+1} after the SPH
+// pair loop and before the second half kick of eq. (15): f_i = (eq. 5)_i + Σ_bonds F_i. The body
+// force F of eq. (2) (optional) drives the fluids only, outer and inner (§4; particle_types.hpp).
+//
+// Memory sorting (SphOptions::sort_every, default 20 rebuilds; 0: never): after each sort the
+// bond ends, the bonds' CSR rows and the membrane vertex → particle map are renumbered with the
+// sort's new indices (SphSystem::last_sort_new_index), inside extra and so before the bonds are
+// evaluated. The bond forces are then bitwise those of the unsorted particles (each row keeps its
+// bond order); the SPH sums change order, i.e. trajectories agree to round-off. Renumbering, not
+// refusing: sorting keeps the pair loop's memory locality as fluid and capsule move and mix.
+//
+// Time step: the smallest of the SPH limits (sph_time_step.hpp: viscous C_ν h²/ν, acoustic
+// C_c h/c, force C_f √(h/|a|) with the bond forces among the accelerations) and the bond limit
+// Δt_bond = C_b min_i √(m_i/K_i) (harmonic_bonds.hpp; K_i the summed stiffness of particle i's
+// bonds, C_b = 0.5), at the initial state after the first force evaluation; a given dt above that
+// limit is refused.
+//
+// c0 of eq. (6): by default 10 U for the expected largest speed U (§2.2: "at least one order of
+// magnitude larger than the maximum velocity", for density variations below 1%). The membrane's
+// tension adds a pressure jump Δp ~ 2 G_s ε/a across it (strain ε), which that rule ignores: the
+// density varies by Δp/(ρ0 c0²); give c0 ≥ √(100 Δp/ρ0) explicitly where that exceeds 10 U
+// (tests/sph/test_capsule_scene.cpp: a capsule relaxing from ε = 0.3 at c0 = 10 U varies ρ by 2%
+// near the membrane).
+//
+// Measurements (host, on demand; mirrors made once): the membrane's shape from its outer layer —
+// centroid, enclosed volume Σ_triangles x_a · (x_b × x_c)/6 (vertices unwrapped about the first
+// one), radii about the centroid, and the Taylor deformation D = (L − B)/(L + B) of §4.1, L and B
+// the largest and smallest extent of the outer layer along the principal axes of its gyration
+// tensor (the major and minor axes; the undeformed icosphere has D ≈ 0, its extents differing with
+// the axis by at most a facet's sag, ~δ²/(8a));
+// total momentum Σ m v; largest speed; largest |ρ − ρ0|/ρ0; a finite check.
+#pragma once
+
+#include "kernels/common/box.hpp"
+#include "kernels/common/particle_sort.hpp"
+#include "kernels/common/particles.hpp"
+#include "kernels/common/reductions.hpp"
+#include "kernels/msm/capsule_mesh.hpp"
+#include "kernels/msm/harmonic_bonds.hpp"
+#include "kernels/sph/particle_types.hpp"
+#include "kernels/sph/sph_system.hpp"
+#include "kernels/sph/sph_time_step.hpp"
+#include "kernels/sph/tait_equation_of_state.hpp"
+
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <optional>
+#include <random>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace mesoflow::capsule {
+
+struct CapsuleSceneParameters {
+  // Fluid (§2.2, §4: ρ0, μ of the outer fluid; units Δx = ρ0 = 1 unless set otherwise).
+  std::array<int, 3> sites{16, 16, 16};  // lattice sites per axis; the box is periodic, sites·Δx long
+  double spacing = 1;                    // Δx
+  double support = 3;                    // Lucy kernel support h (the paper's h), in Δx
+  double rho0 = 1;                       // ρ0 of eq. (6)
+  double mu_outer = 1;                   // dynamic viscosity of the outer fluid
+  double mu_inner = 1;                   // of the inner fluid (viscosity ratio μ_in/μ_out)
+  std::optional<double> mu_membrane;     // of the membrane particles; default μ_outer
+  double u_max = 0.1;                    // expected largest speed U: c0 = 10 U (eq. 6)
+  std::optional<double> c0;              // sound speed of eq. (6), overriding 10 U
+  std::array<double, 3> body_force{};    // F of eq. (2), per unit mass, on the fluids
+
+  // Capsule (§3).
+  double radius = 4;                     // a: outer sphere
+  double thickness = 1;                  // h_t: the inner sphere has radius a − h_t
+  int level = 2;                         // icosphere subdivisions (the paper's 5124 particles: 4)
+  double k_b = 1;                        // eq. (7); diagonals 2/3 k_b
+  msm::DiagonalBonds diagonals = msm::DiagonalBonds::one_per_quad;
+  double clearance = 0.5;                // c/Δx: fluid removed within c of the shell
+  std::array<double, 3> stretch{1, 1, 1};  // initial map S of the membrane positions (not rest lengths)
+
+  // Initial velocities.
+  std::array<double, 3> capsule_velocity{};  // membrane and inner fluid
+  double velocity_noise = 0;             // uniform in [−A, A] per component, net momentum removed
+  unsigned seed = 1;
+
+  // Numerics.
+  sph::SphOptions sph;                   // neighbor list kind, sorting, walls
+  sph::SphTimeStepCoefficients dt_coefficients;
+  double bond_dt_coefficient = 0.5;      // C_b of Δt_bond (harmonic_bonds.hpp)
+  std::optional<double> dt;              // default: the smallest limit
+
+  void validate() const {
+    auto require = [](bool ok, const std::string& what) {
+      if (!ok) throw std::invalid_argument("capsule scene: " + what);
+    };
+    auto positive = [](double v) { return std::isfinite(v) && v > 0; };
+    for (int d = 0; d < 3; ++d) require(sites[std::size_t(d)] >= 1, "sites must be >= 1 per axis");
+    require(positive(spacing), "spacing must be > 0, got " + std::to_string(spacing));
+    require(positive(support), "support must be > 0, got " + std::to_string(support));
+    require(positive(rho0), "rho0 must be > 0, got " + std::to_string(rho0));
+    require(std::isfinite(mu_outer) && mu_outer >= 0, "mu_outer must be >= 0, got " + std::to_string(mu_outer));
+    require(std::isfinite(mu_inner) && mu_inner >= 0, "mu_inner must be >= 0, got " + std::to_string(mu_inner));
+    if (mu_membrane) require(std::isfinite(*mu_membrane) && *mu_membrane >= 0, "mu_membrane must be >= 0");
+    require(positive(u_max), "u_max must be > 0, got " + std::to_string(u_max));
+    if (c0) require(positive(*c0), "c0 must be > 0, got " + std::to_string(*c0));
+    require(positive(radius), "radius a must be > 0, got " + std::to_string(radius));
+    require(positive(thickness) && thickness < radius, "thickness h_t must be in (0, a)");
+    require(positive(k_b), "k_b must be > 0, got " + std::to_string(k_b));
+    require(std::isfinite(clearance) && clearance >= 0, "clearance must be >= 0");
+    require(std::isfinite(velocity_noise) && velocity_noise >= 0, "velocity_noise must be >= 0");
+    require(positive(bond_dt_coefficient), "bond_dt_coefficient must be > 0");
+    if (dt) require(positive(*dt), "dt must be > 0, got " + std::to_string(*dt));
+    for (int d = 0; d < 3; ++d) {
+      const std::size_t a = std::size_t(d);
+      require(positive(stretch[a]), "stretch must be > 0 per axis");
+      require(std::isfinite(body_force[a]) && std::isfinite(capsule_velocity[a]), "non-finite vector");
+      // The capsule must not reach its periodic image: its extent plus one kernel support.
+      const double extent = 2 * (radius * stretch[a] + clearance * spacing) + support * spacing;
+      require(sites[a] * spacing > extent, "box length " + std::to_string(sites[a] * spacing) + " along axis " +
+                                               std::to_string(d) + " must exceed the capsule's extent + support = " +
+                                               std::to_string(extent));
+    }
+  }
+};
+
+// The membrane's shape, from its outer layer (see the file comment).
+struct MembraneShape {
+  std::array<double, 3> centroid{};
+  double volume = 0;        // enclosed by the outer-layer triangles
+  double mean_radius = 0;   // of the outer vertices about the centroid
+  double min_radius = 0, max_radius = 0;
+  double length = 0, breadth = 0;  // L, B: extents along the largest and smallest principal axes
+  double taylor_deformation = 0;   // D = (L − B)/(L + B)
+};
+
+// The stability limits of the scene: the SPH ones and the bonds'.
+struct CapsuleTimeStepLimits {
+  sph::SphTimeStepLimits sph;
+  double bond = std::numeric_limits<double>::infinity();
+  double dt() const { return std::min(sph.dt(), bond); }
+  const char* binding() const { return bond < sph.dt() ? "bond" : sph.binding(); }
+};
+
+template <class Real, class ExecSpace = Kokkos::DefaultExecutionSpace>
+class CapsuleScene {
+ public:
+  using System = sph::SphSystem<3, Real, ExecSpace>;
+  using Bonds = msm::HarmonicBonds<3, Real, ExecSpace>;
+  using int_view = Kokkos::View<int*, ExecSpace>;
+
+  explicit CapsuleScene(const CapsuleSceneParameters& par)
+      : par_(checked(par)),
+        mesh_(msm::capsule_membrane(membrane_parameters(par_))),
+        fluid_(fluid_layout(par_)),
+        sys_(sph::LucyKernel<3, Real>(Real(par_.support * par_.spacing)),
+             sph::TaitEquationOfState<Real>(par_.rho0, par_.c0 ? *par_.c0 : sph::speed_of_sound_for_velocity(par_.u_max)),
+             box(par_),
+             Real(1), par_.sph),
+        bonds_(msm::upload_bonds<Real, ExecSpace>(mesh_, num_fluid())) {
+    build_particles();
+    sys_.begin([this](const auto& p) { add_membrane_forces(p); });
+    limits_ = time_step_limits();
+    const double limit = limits_.dt();
+    if (par_.dt && *par_.dt > limit)
+      throw std::invalid_argument("capsule scene: time step dt must be <= " + std::to_string(limit) + " (the " +
+                                  limits_.binding() + " limit), got " + std::to_string(*par_.dt));
+    sys_.set_dt(Real(par_.dt ? *par_.dt : limit));
+  }
+
+  // One step of eqs. (11)–(16) with the bond forces of eq. (7).
+  void step() {
+    sys_.step([this](const auto& p) { add_membrane_forces(p); });
+  }
+  void run(long steps) {
+    for (long k = 0; k < steps; ++k) step();
+  }
+
+  // The limits at the current state (host reductions: not every step).
+  CapsuleTimeStepLimits time_step_limits() const {
+    CapsuleTimeStepLimits l;
+    l.sph = sys_.time_step_limits(par_.dt_coefficients);
+    l.bond = bonds_.time_step_limit(sys_.particles, par_.bond_dt_coefficient);
+    return l;
+  }
+  // The limits at the initial state (after the first force evaluation), which chose dt.
+  const CapsuleTimeStepLimits& initial_time_step_limits() const { return limits_; }
+
+  MembraneShape membrane_shape() const {
+    Kokkos::deep_copy(x_host_, sys_.particles.x);
+    Kokkos::deep_copy(slot_host_, membrane_slot_);
+    const int nv = mesh_.vertices_per_layer;
+    const auto& b = sys_.box();
+    std::vector<Eigen::Vector3d> y(static_cast<std::size_t>(nv));
+    auto position = [&](int v) {
+      const int i = slot_host_(v);
+      return Vec<3, Real>{{x_host_(i, 0), x_host_(i, 1), x_host_(i, 2)}};
+    };
+    const Vec<3, Real> x0 = position(0);
+    for (int v = 0; v < nv; ++v) {
+      Vec<3, Real> dr = position(v) - x0;
+      b.minimum_image(dr);
+      y[std::size_t(v)] = Eigen::Vector3d(double(x0[0]) + double(dr[0]), double(x0[1]) + double(dr[1]),
+                                          double(x0[2]) + double(dr[2]));
+    }
+    MembraneShape s;
+    Eigen::Vector3d c = Eigen::Vector3d::Zero();
+    for (const auto& p : y) c += p;
+    c /= double(nv);
+    for (int d = 0; d < 3; ++d) s.centroid[std::size_t(d)] = c[d];
+    for (const auto& t : mesh_.triangle)
+      s.volume += (y[std::size_t(t[0])] - c).dot((y[std::size_t(t[1])] - c).cross(y[std::size_t(t[2])] - c)) / 6;
+    Eigen::Matrix3d g = Eigen::Matrix3d::Zero();
+    s.min_radius = std::numeric_limits<double>::infinity();
+    for (const auto& p : y) {
+      const Eigen::Vector3d r = p - c;
+      g += r * r.transpose();
+      const double len = r.norm();
+      s.mean_radius += len / nv;
+      s.min_radius = std::min(s.min_radius, len);
+      s.max_radius = std::max(s.max_radius, len);
+    }
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(g / double(nv));
+    auto extent = [&](const Eigen::Vector3d& axis) {
+      double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+      for (const auto& p : y) {
+        const double q = (p - c).dot(axis);
+        lo = std::min(lo, q);
+        hi = std::max(hi, q);
+      }
+      return hi - lo;
+    };
+    s.length = 0;
+    s.breadth = std::numeric_limits<double>::infinity();
+    for (int a = 0; a < 3; ++a) {
+      const double e = extent(eig.eigenvectors().col(a));
+      s.length = std::max(s.length, e);
+      s.breadth = std::min(s.breadth, e);
+    }
+    s.taylor_deformation = (s.length - s.breadth) / (s.length + s.breadth);
+    return s;
+  }
+
+  std::array<double, 3> total_momentum() const { return momentum(sys_.particles); }
+
+  double max_speed() const {
+    const auto v = sys_.particles.v;
+    double v2 = 0;
+    Kokkos::parallel_reduce(
+        "mesoflow::capsule::max_speed", Kokkos::RangePolicy<ExecSpace>(0, int(sys_.particles.size())),
+        KOKKOS_LAMBDA(int i, double& acc) {
+          double s = 0;
+          for (int d = 0; d < 3; ++d) s += double(v(i, d)) * double(v(i, d));
+          if (s > acc) acc = s;
+        },
+        Kokkos::Max<double>(v2));
+    return std::sqrt(v2);
+  }
+
+  // max |ρ − ρ0|/ρ0 over all particles.
+  double max_density_deviation() const {
+    const auto rho = sys_.rho;
+    const double rho0 = par_.rho0;
+    double dev = 0;
+    Kokkos::parallel_reduce(
+        "mesoflow::capsule::density_deviation", Kokkos::RangePolicy<ExecSpace>(0, int(sys_.particles.size())),
+        KOKKOS_LAMBDA(int i, double& acc) {
+          const double e = kmath::fabs(double(rho(i)) / rho0 - 1.0);
+          if (e > acc) acc = e;
+        },
+        Kokkos::Max<double>(dev));
+    return dev;
+  }
+
+  // Whether every position, velocity, force and density is finite.
+  bool all_finite() const {
+    const auto x = sys_.particles.x, v = sys_.particles.v, f = sys_.particles.f;
+    const auto rho = sys_.rho;
+    int bad = 0;
+    Kokkos::parallel_reduce(
+        "mesoflow::capsule::finite_check", Kokkos::RangePolicy<ExecSpace>(0, int(sys_.particles.size())),
+        KOKKOS_LAMBDA(int i, int& acc) {
+          bool ok = kmath::isfinite(double(rho(i)));
+          for (int d = 0; d < 3; ++d)
+            ok = ok && kmath::isfinite(double(x(i, d))) &&
+                 kmath::isfinite(double(v(i, d))) && kmath::isfinite(double(f(i, d)));
+          acc += ok ? 0 : 1;
+        },
+        bad);
+    return bad == 0;
+  }
+
+  // Surface shear modulus G_s = E h_t/(2(1 + ν)) with E = 5 k_b/(√3 δ_ave), ν = 1/4, as §4 quotes
+  // it for the spring network (capsule_mesh.hpp: exact for the crossed network at h_t = δ_ave); the
+  // capillary number is Ca = μ U a/G_s.
+  double surface_shear_modulus() const {
+    const double E = 5 * par_.k_b / (std::sqrt(3.0) * mesh_.mean_in_layer_bond_length());
+    return E * par_.thickness / (2 * (1 + 0.25));
+  }
+
+  const System& system() const { return sys_; }
+  const Bonds& bonds() const { return bonds_; }
+  const msm::MembraneMesh& mesh() const { return mesh_; }
+  const CapsuleSceneParameters& parameters() const { return par_; }
+  // membrane_slot()(v) = the particle index of membrane vertex v (0 .. V − 1 outer, V .. 2V − 1
+  // inner), kept current through memory sorts.
+  const int_view& membrane_slot() const { return membrane_slot_; }
+  int num_outer_fluid() const { return fluid_.num_outer; }
+  int num_inner_fluid() const { return int(fluid_.position.size()) - fluid_.num_outer; }
+  int num_fluid() const { return int(fluid_.position.size()); }
+  int num_membrane() const { return mesh_.num_particles(); }
+  int num_particles() const { return num_fluid() + num_membrane(); }
+  int num_removed_sites() const { return fluid_.num_removed; }
+
+ private:
+  // The fluid sites kept, outer fluid first, then inner fluid.
+  struct FluidLayout {
+    std::vector<std::array<double, 3>> position;
+    int num_outer = 0;
+    int num_removed = 0;
+  };
+
+  static const CapsuleSceneParameters& checked(const CapsuleSceneParameters& par) {
+    par.validate();
+    return par;
+  }
+
+  static std::array<double, 3> centre(const CapsuleSceneParameters& par) {
+    std::array<double, 3> c{};
+    for (std::size_t d = 0; d < 3; ++d) c[d] = 0.5 * par.sites[d] * par.spacing;
+    return c;
+  }
+
+  static Box<3, Real> box(const CapsuleSceneParameters& par) {
+    const Real lo[3] = {0, 0, 0};
+    const Real len[3] = {Real(par.sites[0] * par.spacing), Real(par.sites[1] * par.spacing),
+                         Real(par.sites[2] * par.spacing)};
+    const bool periodic[3] = {true, true, true};
+    return Box<3, Real>(lo, len, periodic);
+  }
+
+  static msm::CapsuleMembraneParameters membrane_parameters(const CapsuleSceneParameters& par) {
+    msm::CapsuleMembraneParameters m;
+    m.centre = centre(par);
+    m.radius = par.radius;
+    m.thickness = par.thickness;
+    m.level = par.level;
+    m.bonds.k_b = par.k_b;
+    m.bonds.diagonals = par.diagonals;
+    return m;
+  }
+
+  static FluidLayout fluid_layout(const CapsuleSceneParameters& par) {
+    const auto c = centre(par);
+    const double gap = par.clearance * par.spacing;
+    const double r_inner = par.radius - par.thickness - gap, r_outer = par.radius + gap;
+    FluidLayout outer, inner;
+    for (int i = 0; i < par.sites[0]; ++i)
+      for (int j = 0; j < par.sites[1]; ++j)
+        for (int k = 0; k < par.sites[2]; ++k) {
+          const std::array<double, 3> p{(i + 0.5) * par.spacing, (j + 0.5) * par.spacing, (k + 0.5) * par.spacing};
+          double r2 = 0;  // |S⁻¹(p − c)|²
+          for (std::size_t d = 0; d < 3; ++d) r2 += std::pow((p[d] - c[d]) / par.stretch[d], 2);
+          const double r = std::sqrt(r2);
+          if (r <= r_inner)
+            inner.position.push_back(p);
+          else if (r >= r_outer)
+            outer.position.push_back(p);
+          else
+            ++outer.num_removed;
+        }
+    FluidLayout all;
+    all.num_outer = int(outer.position.size());
+    all.num_removed = outer.num_removed;
+    all.position = std::move(outer.position);
+    all.position.insert(all.position.end(), inner.position.begin(), inner.position.end());
+    return all;
+  }
+
+  void build_particles() {
+    const int nf = num_fluid(), nm = num_membrane(), n = nf + nm;
+    if (fluid_.num_removed == 0)
+      throw std::invalid_argument("capsule scene: no fluid site lies in the membrane shell; the lattice is too coarse");
+    sys_.allocate(n);
+    auto& p = sys_.particles;
+    auto x = Kokkos::create_mirror_view(p.x);
+    auto v = Kokkos::create_mirror_view(p.v);
+    auto m = Kokkos::create_mirror_view(p.mass);
+    auto type = Kokkos::create_mirror_view(p.type);
+    auto body = Kokkos::create_mirror_view(p.body);
+    auto mu = Kokkos::create_mirror_view(sys_.mu);
+    const double dx3 = par_.spacing * par_.spacing * par_.spacing;
+    const double m_fluid = par_.rho0 * dx3;
+    const double m_membrane = m_fluid * fluid_.num_removed / double(nm);
+    const double mu_membrane = par_.mu_membrane ? *par_.mu_membrane : par_.mu_outer;
+    const auto c = centre(par_);
+    for (int i = 0; i < nf; ++i) {
+      const bool outer = i < fluid_.num_outer;
+      for (int d = 0; d < 3; ++d) {
+        x(i, d) = Real(fluid_.position[std::size_t(i)][std::size_t(d)]);
+        v(i, d) = Real(outer ? 0.0 : par_.capsule_velocity[std::size_t(d)]);
+      }
+      m(i) = Real(m_fluid);
+      type(i) = outer ? sph::particle_type::fluid : sph::particle_type::inner_fluid;
+      body(i) = -1;
+      mu(i) = Real(outer ? par_.mu_outer : par_.mu_inner);
+    }
+    for (int k = 0; k < nm; ++k) {
+      const int i = nf + k;
+      for (std::size_t d = 0; d < 3; ++d) {
+        const double rest = mesh_.position[std::size_t(k)][d];
+        x(i, int(d)) = Real(c[d] + par_.stretch[d] * (rest - c[d]));
+        v(i, int(d)) = Real(par_.capsule_velocity[d]);
+      }
+      m(i) = Real(m_membrane);
+      type(i) = sph::particle_type::membrane;
+      body(i) = 0;
+      mu(i) = Real(mu_membrane);
+    }
+    if (par_.velocity_noise > 0) {
+      std::mt19937 gen(par_.seed);
+      std::uniform_real_distribution<double> u(-par_.velocity_noise, par_.velocity_noise);
+      double momentum[3] = {}, mass = 0;
+      for (int i = 0; i < n; ++i) {
+        for (int d = 0; d < 3; ++d) {
+          v(i, d) += Real(u(gen));
+          momentum[d] += double(m(i)) * double(v(i, d));
+        }
+        mass += double(m(i));
+      }
+      // Remove the noise's net momentum (keep the capsule's).
+      double target[3] = {};
+      for (int i = nf; i < n; ++i)
+        for (int d = 0; d < 3; ++d) target[d] += double(m(i)) * par_.capsule_velocity[std::size_t(d)];
+      for (int i = fluid_.num_outer; i < nf; ++i)
+        for (int d = 0; d < 3; ++d) target[d] += double(m(i)) * par_.capsule_velocity[std::size_t(d)];
+      for (int i = 0; i < n; ++i)
+        for (int d = 0; d < 3; ++d) v(i, d) -= Real((momentum[d] - target[d]) / mass);
+    }
+    Kokkos::deep_copy(p.x, x);
+    Kokkos::deep_copy(p.v, v);
+    Kokkos::deep_copy(p.mass, m);
+    Kokkos::deep_copy(p.type, type);
+    Kokkos::deep_copy(p.body, body);
+    Kokkos::deep_copy(sys_.mu, mu);
+
+    membrane_slot_ = int_view("mesoflow::capsule::membrane_slot", nm);
+    auto slot = Kokkos::create_mirror_view(membrane_slot_);
+    for (int k = 0; k < nm; ++k) slot(k) = nf + k;
+    Kokkos::deep_copy(membrane_slot_, slot);
+    x_host_ = Kokkos::create_mirror_view(Kokkos::HostSpace(), p.x);
+    slot_host_ = Kokkos::create_mirror_view(Kokkos::HostSpace(), membrane_slot_);
+
+    sph::BodyForce<3, Real> body_force;
+    for (int d = 0; d < 3; ++d) body_force.g[d] = Real(par_.body_force[std::size_t(d)]);
+    sys_.set_body_force(body_force);
+  }
+
+  // The extra forces of SphSystem::step: follow a memory sort of this step, then eq. (7).
+  void add_membrane_forces(const Particles<3, Real, ExecSpace>& p) {
+    const int sorts = sys_.num_sorts();
+    if (sorts != seen_sorts_) {
+      if (sorts != seen_sorts_ + 1)
+        throw std::logic_error("capsule scene: " + std::to_string(sorts - seen_sorts_) +
+                               " memory sorts since the bonds were last renumbered; step the scene, not its SPH "
+                               "system");
+      bonds_.renumber(sys_.last_sort_new_index());
+      renumber_particle_indices(membrane_slot_, sys_.last_sort_new_index());
+      seen_sorts_ = sorts;
+    }
+    bonds_.accumulate(p, sys_.box());
+  }
+
+  CapsuleSceneParameters par_;
+  msm::MembraneMesh mesh_;
+  FluidLayout fluid_;
+  System sys_;
+  Bonds bonds_;
+  int_view membrane_slot_;
+  int seen_sorts_ = 0;
+  CapsuleTimeStepLimits limits_;
+  mutable typename Particles<3, Real, ExecSpace>::vector_view::HostMirror x_host_;
+  mutable typename int_view::HostMirror slot_host_;
+};
+
+}  // namespace mesoflow::capsule
