@@ -3,15 +3,20 @@
 // 11–16) with the membrane's mass-spring network (kernels/msm: eq. 7), owns the state, steps it and
 // measures the capsule. Physics stays in kernels/; this header only assembles it.
 //
-// Scene (§3, Fig. 1): a periodic box of n_x × n_y × n_z sites of a simple cubic lattice (spacing
-// Δx, sites at (i + ½)Δx) filled with SPH fluid, and the capsule's two-layer membrane
-// (msm::capsule_membrane: icospheres of radii a and a − h_t, level ℓ, bonds k_b, partner k_b and
-// diagonals 2/3 k_b, §3) centred in the box. Fluid sites in the shell, a − h_t − c < r < a + c with
+// Scene (§3, Fig. 1): a channel (channel_geometry.hpp: the constriction of §3, the shear cell of
+// §4.1, or by default a periodic box of n_x × n_y × n_z sites) on a simple cubic lattice (spacing
+// Δx, sites at (i + ½)Δx): SPH fluid on the sites of its fluid region, wall particles (type wall,
+// mass ρ0 Δx³, viscosity μ_out, the walls' prescribed velocity; with Morris walls their normal and
+// depth, no_slip_walls.hpp) on the solid sites within one kernel support of it, and the capsule's
+// two-layer membrane (msm::capsule_membrane: icospheres of radii a and a − h_t, level ℓ, bonds k_b,
+// partner k_b and diagonals 2/3 k_b, §3) centred at the given point (default: the domain's
+// centre). Walled axes are bounded in the SPH box, which extends over the wall layers. Fluid sites
+// in the shell, a − h_t − c < r < a + c with
 // the clearance c = clearance·Δx (½Δx: each layer's particles own half a spacing on either side),
 // are removed; sites with r ≤ a − h_t − c are inner fluid (particle_type::inner_fluid, viscosity
 // μ_in), the others outer fluid (particle_type::fluid, μ_out). Particles are stored outer fluid,
-// inner fluid, then the membrane (outer layer, inner layer: capsule_mesh.hpp's numbering) — until
-// the first memory sort.
+// inner fluid, walls, then the membrane (outer layer, inner layer: capsule_mesh.hpp's numbering) —
+// until the first memory sort.
 //
 // Membrane particles are SPH particles as well (§2.4: "at the same time MSM and SPH particles";
 // particle_type::membrane): ρ integrated by eq. (4), pressure by eq. (6), viscous term of eq. (5)
@@ -63,6 +68,7 @@
 // total momentum Σ m v; largest speed; largest |ρ − ρ0|/ρ0; a finite check.
 #pragma once
 
+#include "drivers/capsule/channel_geometry.hpp"
 #include "kernels/common/box.hpp"
 #include "kernels/common/particle_sort.hpp"
 #include "kernels/common/particles.hpp"
@@ -100,6 +106,7 @@ struct CapsuleSceneParameters {
   double u_max = 0.1;                    // expected largest speed U: c0 = 10 U (eq. 6)
   std::optional<double> c0;              // sound speed of eq. (6), overriding 10 U
   std::array<double, 3> body_force{};    // F of eq. (2), per unit mass, on the fluids
+  std::optional<ChannelGeometry> channel;  // walls and fluid region; default: the periodic box of `sites`
 
   // Capsule (§3).
   double radius = 4;                     // a: outer sphere
@@ -108,6 +115,7 @@ struct CapsuleSceneParameters {
   double k_b = 1;                        // eq. (7); diagonals 2/3 k_b
   msm::DiagonalBonds diagonals = msm::DiagonalBonds::one_per_quad;
   double clearance = 0.5;                // c/Δx: fluid removed within c of the shell
+  std::optional<std::array<double, 3>> centre;  // the capsule's centre; default: the domain's
   std::array<double, 3> stretch{1, 1, 1};  // initial map S of the membrane positions (not rest lengths)
 
   // Initial velocities.
@@ -146,12 +154,20 @@ struct CapsuleSceneParameters {
       const std::size_t a = std::size_t(d);
       require(positive(stretch[a]), "stretch must be > 0 per axis");
       require(std::isfinite(body_force[a]) && std::isfinite(capsule_velocity[a]), "non-finite vector");
+      if (centre) require(std::isfinite((*centre)[a]), "non-finite capsule centre");
       // The capsule must not reach its periodic image: its extent plus one kernel support.
       const double extent = 2 * (radius * stretch[a] + clearance * spacing) + support * spacing;
-      require(sites[a] * spacing > extent, "box length " + std::to_string(sites[a] * spacing) + " along axis " +
-                                               std::to_string(d) + " must exceed the capsule's extent + support = " +
-                                               std::to_string(extent));
+      const double edge = channel ? channel->length[a] : sites[a] * spacing;
+      require(edge > extent, "box length " + std::to_string(edge) + " along axis " + std::to_string(d) +
+                                 " must exceed the capsule's extent + support = " + std::to_string(extent));
     }
+  }
+
+  ChannelGeometry geometry() const { return channel ? *channel : periodic_channel(sites, spacing); }
+  std::array<double, 3> capsule_centre() const {
+    if (centre) return *centre;
+    const auto g = geometry();
+    return {0.5 * g.length[0], 0.5 * g.length[1], 0.5 * g.length[2]};
   }
 };
 
@@ -188,7 +204,7 @@ class CapsuleScene {
              sph::TaitEquationOfState<Real>(par_.rho0, par_.c0 ? *par_.c0 : sph::speed_of_sound_for_velocity(par_.u_max)),
              box(par_),
              Real(1), par_.sph),
-        bonds_(msm::upload_bonds<Real, ExecSpace>(mesh_, num_fluid())) {
+        bonds_(msm::upload_bonds<Real, ExecSpace>(mesh_, membrane_offset())) {
     build_particles();
     sys_.begin([this](const auto& p) { add_membrane_forces(p); });
     limits_ = time_step_limits();
@@ -203,6 +219,8 @@ class CapsuleScene {
   void step() {
     sys_.step([this](const auto& p) { add_membrane_forces(p); });
   }
+  // F of eq. (2) on the fluids (the constriction driver's flow control).
+  void set_body_force(const sph::BodyForce<3, Real>& body) { sys_.set_body_force(body); }
   void run(long steps) {
     for (long k = 0; k < steps; ++k) step();
   }
@@ -217,7 +235,9 @@ class CapsuleScene {
   // The limits at the initial state (after the first force evaluation), which chose dt.
   const CapsuleTimeStepLimits& initial_time_step_limits() const { return limits_; }
 
-  MembraneShape membrane_shape() const {
+  // The outer layer's vertices (vertex order of the mesh), unwrapped about vertex 0 by the minimum
+  // image: one connected surface, possibly reaching past the box on periodic axes (host copy).
+  std::vector<Eigen::Vector3d> outer_layer_positions() const {
     Kokkos::deep_copy(x_host_, sys_.particles.x);
     Kokkos::deep_copy(slot_host_, membrane_slot_);
     const int nv = mesh_.vertices_per_layer;
@@ -234,6 +254,14 @@ class CapsuleScene {
       y[std::size_t(v)] = Eigen::Vector3d(double(x0[0]) + double(dr[0]), double(x0[1]) + double(dr[1]),
                                           double(x0[2]) + double(dr[2]));
     }
+    return y;
+  }
+
+  MembraneShape membrane_shape() const { return membrane_shape(outer_layer_positions()); }
+
+  // The shape of outer-layer positions y (as outer_layer_positions returns them).
+  MembraneShape membrane_shape(const std::vector<Eigen::Vector3d>& y) const {
+    const int nv = mesh_.vertices_per_layer;
     MembraneShape s;
     Eigen::Vector3d c = Eigen::Vector3d::Zero();
     for (const auto& p : y) c += p;
@@ -339,13 +367,19 @@ class CapsuleScene {
   int num_outer_fluid() const { return fluid_.num_outer; }
   int num_inner_fluid() const { return int(fluid_.position.size()) - fluid_.num_outer; }
   int num_fluid() const { return int(fluid_.position.size()); }
+  int num_walls() const { return int(fluid_.walls.wall.size()); }
   int num_membrane() const { return mesh_.num_particles(); }
-  int num_particles() const { return num_fluid() + num_membrane(); }
+  int num_particles() const { return membrane_offset() + num_membrane(); }
+  // Membrane particles follow the fluid and the walls (until the first memory sort).
+  int membrane_offset() const { return num_fluid() + num_walls(); }
+  const ChannelGeometry& channel() const { return fluid_.geometry; }
   int num_removed_sites() const { return fluid_.num_removed; }
 
  private:
   // The fluid sites kept, outer fluid first, then inner fluid.
   struct FluidLayout {
+    ChannelGeometry geometry;
+    ChannelSites walls;  // its wall sites (its fluid sites are sorted into `position`)
     std::vector<std::array<double, 3>> position;
     int num_outer = 0;
     int num_removed = 0;
@@ -356,23 +390,26 @@ class CapsuleScene {
     return par;
   }
 
-  static std::array<double, 3> centre(const CapsuleSceneParameters& par) {
-    std::array<double, 3> c{};
-    for (std::size_t d = 0; d < 3; ++d) c[d] = 0.5 * par.sites[d] * par.spacing;
-    return c;
-  }
+  // The wall particles reach one kernel support into the solid.
+  static double wall_reach(const CapsuleSceneParameters& par) { return par.support * par.spacing; }
 
+  // Periodic axes span the domain; walled ones extend over the wall layers and are bounded.
   static Box<3, Real> box(const CapsuleSceneParameters& par) {
-    const Real lo[3] = {0, 0, 0};
-    const Real len[3] = {Real(par.sites[0] * par.spacing), Real(par.sites[1] * par.spacing),
-                         Real(par.sites[2] * par.spacing)};
-    const bool periodic[3] = {true, true, true};
+    const auto g = par.geometry();
+    Real lo[3], len[3];
+    bool periodic[3];
+    for (std::size_t d = 0; d < 3; ++d) {
+      const double layers = g.walled[d] ? std::ceil(wall_reach(par) / par.spacing - 1e-9) : 0.0;
+      lo[d] = Real(-layers * par.spacing);
+      len[d] = Real(g.length[d] + 2 * layers * par.spacing);
+      periodic[d] = !g.walled[d];
+    }
     return Box<3, Real>(lo, len, periodic);
   }
 
   static msm::CapsuleMembraneParameters membrane_parameters(const CapsuleSceneParameters& par) {
     msm::CapsuleMembraneParameters m;
-    m.centre = centre(par);
+    m.centre = par.capsule_centre();
     m.radius = par.radius;
     m.thickness = par.thickness;
     m.level = par.level;
@@ -382,25 +419,45 @@ class CapsuleScene {
   }
 
   static FluidLayout fluid_layout(const CapsuleSceneParameters& par) {
-    const auto c = centre(par);
+    const auto c = par.capsule_centre();
     const double gap = par.clearance * par.spacing;
     const double r_inner = par.radius - par.thickness - gap, r_outer = par.radius + gap;
-    FluidLayout outer, inner;
-    for (int i = 0; i < par.sites[0]; ++i)
-      for (int j = 0; j < par.sites[1]; ++j)
-        for (int k = 0; k < par.sites[2]; ++k) {
-          const std::array<double, 3> p{(i + 0.5) * par.spacing, (j + 0.5) * par.spacing, (k + 0.5) * par.spacing};
-          double r2 = 0;  // |S⁻¹(p − c)|²
-          for (std::size_t d = 0; d < 3; ++d) r2 += std::pow((p[d] - c[d]) / par.stretch[d], 2);
-          const double r = std::sqrt(r2);
-          if (r <= r_inner)
-            inner.position.push_back(p);
-          else if (r >= r_outer)
-            outer.position.push_back(p);
-          else
-            ++outer.num_removed;
-        }
     FluidLayout all;
+    all.geometry = par.geometry();
+    ChannelSites sites = channel_sites(all.geometry, par.spacing, wall_reach(par));
+    // The capsule with its clearance must lie in the fluid region: test the stretched sphere's
+    // extreme points and its diagonals.
+    for (int sx = -1; sx <= 1; ++sx)
+      for (int sy = -1; sy <= 1; ++sy)
+        for (int sz = -1; sz <= 1; ++sz) {
+          const double dir[3] = {double(sx), double(sy), double(sz)};
+          const double len = std::sqrt(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
+          if (len == 0) continue;
+          std::array<double, 3> p{};
+          for (std::size_t d = 0; d < 3; ++d) p[d] = c[d] + dir[d] / len * (par.radius * par.stretch[d] + gap);
+          if (!all.geometry.nearest_fluid(p).inside)
+            throw std::invalid_argument("capsule scene: the capsule (radius a + clearance) centred at (" +
+                                        std::to_string(c[0]) + ", " + std::to_string(c[1]) + ", " +
+                                        std::to_string(c[2]) + ") does not fit in the channel's fluid region");
+        }
+    FluidLayout outer, inner;
+    for (const auto& p : sites.fluid) {
+      double r2 = 0;  // |S⁻¹(p − c)|², with the minimum image on periodic axes
+      for (std::size_t d = 0; d < 3; ++d) {
+        double delta = p[d] - c[d];
+        if (!all.geometry.walled[d]) delta -= all.geometry.length[d] * std::floor(delta / all.geometry.length[d] + 0.5);
+        r2 += std::pow(delta / par.stretch[d], 2);
+      }
+      const double r = std::sqrt(r2);
+      if (r <= r_inner)
+        inner.position.push_back(p);
+      else if (r >= r_outer)
+        outer.position.push_back(p);
+      else
+        ++outer.num_removed;
+    }
+    sites.fluid.clear();
+    all.walls = std::move(sites);
     all.num_outer = int(outer.position.size());
     all.num_removed = outer.num_removed;
     all.position = std::move(outer.position);
@@ -409,7 +466,7 @@ class CapsuleScene {
   }
 
   void build_particles() {
-    const int nf = num_fluid(), nm = num_membrane(), n = nf + nm;
+    const int nf = num_fluid(), nw = num_walls(), nm = num_membrane(), n = nf + nw + nm;
     if (fluid_.num_removed == 0)
       throw std::invalid_argument("capsule scene: no fluid site lies in the membrane shell; the lattice is too coarse");
     sys_.allocate(n);
@@ -424,7 +481,7 @@ class CapsuleScene {
     const double m_fluid = par_.rho0 * dx3;
     const double m_membrane = m_fluid * fluid_.num_removed / double(nm);
     const double mu_membrane = par_.mu_membrane ? *par_.mu_membrane : par_.mu_outer;
-    const auto c = centre(par_);
+    const auto c = par_.capsule_centre();
     for (int i = 0; i < nf; ++i) {
       const bool outer = i < fluid_.num_outer;
       for (int d = 0; d < 3; ++d) {
@@ -436,8 +493,26 @@ class CapsuleScene {
       body(i) = -1;
       mu(i) = Real(outer ? par_.mu_outer : par_.mu_inner);
     }
-    for (int k = 0; k < nm; ++k) {
+    const bool morris = sys_.wall_geometry.extent(0) > 0;
+    auto geo = Kokkos::create_mirror_view(sys_.wall_geometry);
+    for (int k = 0; k < nw; ++k) {
       const int i = nf + k;
+      const auto& w = fluid_.walls;
+      for (int d = 0; d < 3; ++d) {
+        x(i, d) = Real(w.wall[std::size_t(k)][std::size_t(d)]);
+        v(i, d) = Real(d == 0 ? w.wall_velocity_x[std::size_t(k)] : 0.0);
+        if (morris) geo(i, d) = Real(w.wall_normal[std::size_t(k)][std::size_t(d)]);
+      }
+      if (morris) geo(i, sph::wall_depth_column<3>) = Real(w.wall_depth[std::size_t(k)]);
+      m(i) = Real(m_fluid);
+      type(i) = sph::particle_type::wall;
+      body(i) = -1;
+      mu(i) = Real(par_.mu_outer);
+    }
+    if (morris) Kokkos::deep_copy(sys_.wall_geometry, geo);
+    const int no = membrane_offset();
+    for (int k = 0; k < nm; ++k) {
+      const int i = no + k;
       for (std::size_t d = 0; d < 3; ++d) {
         const double rest = mesh_.position[std::size_t(k)][d];
         x(i, int(d)) = Real(c[d] + par_.stretch[d] * (rest - c[d]));
@@ -452,7 +527,9 @@ class CapsuleScene {
       std::mt19937 gen(par_.seed);
       std::uniform_real_distribution<double> u(-par_.velocity_noise, par_.velocity_noise);
       double momentum[3] = {}, mass = 0;
+      auto moving = [&](int i) { return i < nf || i >= no; };  // walls keep their velocity
       for (int i = 0; i < n; ++i) {
+        if (!moving(i)) continue;
         for (int d = 0; d < 3; ++d) {
           v(i, d) += Real(u(gen));
           momentum[d] += double(m(i)) * double(v(i, d));
@@ -461,12 +538,13 @@ class CapsuleScene {
       }
       // Remove the noise's net momentum (keep the capsule's).
       double target[3] = {};
-      for (int i = nf; i < n; ++i)
+      for (int i = no; i < n; ++i)
         for (int d = 0; d < 3; ++d) target[d] += double(m(i)) * par_.capsule_velocity[std::size_t(d)];
       for (int i = fluid_.num_outer; i < nf; ++i)
         for (int d = 0; d < 3; ++d) target[d] += double(m(i)) * par_.capsule_velocity[std::size_t(d)];
       for (int i = 0; i < n; ++i)
-        for (int d = 0; d < 3; ++d) v(i, d) -= Real((momentum[d] - target[d]) / mass);
+        if (moving(i))
+          for (int d = 0; d < 3; ++d) v(i, d) -= Real((momentum[d] - target[d]) / mass);
     }
     Kokkos::deep_copy(p.x, x);
     Kokkos::deep_copy(p.v, v);
@@ -477,7 +555,7 @@ class CapsuleScene {
 
     membrane_slot_ = int_view("mesoflow::capsule::membrane_slot", nm);
     auto slot = Kokkos::create_mirror_view(membrane_slot_);
-    for (int k = 0; k < nm; ++k) slot(k) = nf + k;
+    for (int k = 0; k < nm; ++k) slot(k) = no + k;
     Kokkos::deep_copy(membrane_slot_, slot);
     x_host_ = Kokkos::create_mirror_view(Kokkos::HostSpace(), p.x);
     slot_host_ = Kokkos::create_mirror_view(Kokkos::HostSpace(), membrane_slot_);

@@ -1,8 +1,10 @@
 // particle_types.hpp — the particle types of an SPH scene with walls (paper §2.4, §3, Fig. 1a: the
 // red boundary particles).
 //
-// Wall particles are SPH particles that never move: they keep zero velocity and their positions,
-// and take part in everything else — they carry mass, integrate their density by the continuity
+// Wall particles are SPH particles that are never accelerated: they keep their prescribed velocity
+// — zero for the paper's fixed walls, ±V along the wall for the sliding walls of the simple-shear
+// validation (§4.1: "setting x-velocity in opposite directions to the top and bottom boundaries")
+// — and move with it (sph_integrator.hpp), and take part in everything else — they carry mass, integrate their density by the continuity
 // eq. (4), have a pressure from the equation of state eq. (6) and a viscosity in eq. (5). Fluid
 // particles near a wall thus see a full kernel support, are pushed back by the wall's pressure
 // (no penetration) and dragged by its zero velocity through the viscous term (no slip). This is
@@ -23,7 +25,7 @@ namespace mesoflow::sph {
 
 namespace particle_type {
 constexpr int fluid = 0;
-constexpr int wall = 1;  // fixed boundary particle: zero velocity, never moves
+constexpr int wall = 1;  // boundary particle: prescribed velocity (zero: fixed), never accelerated
 constexpr int membrane = 2;  // MSM membrane particle: moves as fluid does, bond forces add (kernels/msm)
 constexpr int inner_fluid = 3;  // fluid inside a capsule (§3, Fig. 1a: white); outer fluid is `fluid`
 }  // namespace particle_type

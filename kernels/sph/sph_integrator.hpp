@@ -16,8 +16,9 @@
 // velocity-dependent (viscous) force is then evaluated at the velocity of the time it belongs to.
 // Its price is a tighter stability limit for the viscous term (sph_time_step.hpp).
 //
-// Fixed particles (walls, particle_types.hpp) integrate their density by eqs. (12) and (16) but
-// neither move nor change velocity; their ū is their (zero) velocity.
+// Wall particles (particle_types.hpp) integrate their density by eqs. (12) and (16) but are never
+// accelerated: they keep their prescribed velocity (zero for fixed walls, ±V for the sliding walls
+// of a shear cell) and move with it, x^{n+1} = x^n + Δt v; their ū is that velocity.
 #pragma once
 
 #include "kernels/common/particles.hpp"
@@ -55,7 +56,10 @@ class SphIntegrator {
         "mesoflow::sph::integrate_first_half", Kokkos::RangePolicy<ExecSpace>(0, p.size()), KOKKOS_LAMBDA(int i) {
           rho(i) += half_dt * drho(i);
           if (is_fixed(type(i))) {
-            for (int d = 0; d < D; ++d) u_bar(i, d) = v(i, d);
+            for (int d = 0; d < D; ++d) {
+              u_bar(i, d) = v(i, d);
+              x(i, d) += dt * v(i, d);
+            }
             return;
           }
           const Real inv_m = Real(1) / m(i);

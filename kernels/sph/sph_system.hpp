@@ -136,7 +136,7 @@ class SphSystem {
   SphTimeStepLimits time_step_limits(const SphTimeStepCoefficients& c = {}) const {
     const auto mu_ = mu, rho_ = rho;
     const auto type = particles.type;
-    double nu_max = 0, c_max = 0;
+    double nu_max = 0, nu_min = 0, c_max = 0;
     const auto eos = eos_;
     Kokkos::parallel_reduce(
         "mesoflow::sph::max_viscosity", Kokkos::RangePolicy<ExecSpace>(0, particles.size()),
@@ -146,6 +146,15 @@ class SphSystem {
         },
         Kokkos::Max<double>(nu_max));
     Kokkos::parallel_reduce(
+        "mesoflow::sph::min_viscosity", Kokkos::RangePolicy<ExecSpace>(0, particles.size()),
+        KOKKOS_LAMBDA(int i, double& nu) {
+          if (is_fixed(type(i))) return;
+          const double nu_i = double(mu_(i)) / double(rho_(i));
+          if (nu_i < nu) nu = nu_i;
+        },
+        Kokkos::Min<double>(nu_min));
+    nu_min = std::min(nu_min, nu_max);
+    Kokkos::parallel_reduce(
         "mesoflow::sph::max_sound_speed", Kokkos::RangePolicy<ExecSpace>(0, particles.size()),
         KOKKOS_LAMBDA(int i, double& c) {
           const double c_i = is_fixed(type(i)) ? 0.0 : double(eos.sound_speed(rho_(i)));
@@ -153,7 +162,7 @@ class SphSystem {
         },
         Kokkos::Max<double>(c_max));
     if (!(c_max > 0)) c_max = double(eos_.c0);
-    return sph_time_step_limits(time_step_length(kernel_), nu_max, c_max, max_fluid_acceleration(particles), c);
+    return sph_time_step_limits(time_step_length(kernel_), nu_max, c_max, max_fluid_acceleration(particles), c, nu_min);
   }
 
   const Kernel& kernel() const { return kernel_; }

@@ -17,6 +17,7 @@
 #include <algorithm>
 #include <cmath>
 #include <iostream>
+#include <random>
 #include <vector>
 
 namespace mesoflow {
@@ -33,6 +34,7 @@ struct ChannelSetup {
   double viscous_coefficient = 0.125;  // C_ν of sph_time_step.hpp
   int sort_every = 20;
   NeighborListKind list = NeighborListKind::half;
+  double wall_speed = 0;  // > 0: plane Couette, walls sliding at ±V along x (no body force), U = V
 };
 
 template <class Real, class Exec>
@@ -47,7 +49,7 @@ Channel<Real, Exec> make_channel(const ChannelSetup& s) {
   const double H = s.fluid_layers, rho0 = 1;
   const int nw = int(std::ceil(s.support - 1e-9));
   const int nz = s.fluid_layers + 2 * nw;
-  const double g = 8 * s.nu * s.u_max / (H * H);
+  const double g = s.wall_speed > 0 ? 0.0 : 8 * s.nu * s.u_max / (H * H);
   const double c0 = std::max(speed_of_sound_for_velocity(s.u_max), morris_speed_of_sound(s.u_max, s.nu, H, g));
   const LucyKernel<3, Real> kernel{Real(s.support)};
   SphTimeStepCoefficients coefficients;
@@ -67,6 +69,8 @@ Channel<Real, Exec> make_channel(const ChannelSetup& s) {
   sys.allocate(n);
   auto x = Kokkos::create_mirror_view(sys.particles.x);
   auto type = Kokkos::create_mirror_view(sys.particles.type);
+  auto v = Kokkos::create_mirror_view(sys.particles.v);
+  Kokkos::deep_copy(v, Real(0));
   auto geo = Kokkos::create_mirror_view(sys.wall_geometry);
   int i = 0;
   for (int a = 0; a < s.sites; ++a)
@@ -76,6 +80,7 @@ Channel<Real, Exec> make_channel(const ChannelSetup& s) {
         x(i, 1) = Real(b + 0.5);
         x(i, 2) = Real(k + 0.5);
         type(i) = k < s.fluid_layers ? particle_type::fluid : particle_type::wall;
+        if (k >= s.fluid_layers) v(i, 0) = Real(k < s.fluid_layers + nw ? s.wall_speed : -s.wall_speed);
         if (s.walls == WallVelocity::morris && k >= s.fluid_layers) {
           const bool top = k < s.fluid_layers + nw;  // the others are the bottom wall's periodic image
           geo(i, 0) = geo(i, 1) = Real(0);
@@ -84,6 +89,7 @@ Channel<Real, Exec> make_channel(const ChannelSetup& s) {
         }
       }
   Kokkos::deep_copy(sys.particles.x, x);
+  Kokkos::deep_copy(sys.particles.v, v);
   Kokkos::deep_copy(sys.particles.type, type);
   if (s.walls == WallVelocity::morris) Kokkos::deep_copy(sys.wall_geometry, geo);
   Kokkos::deep_copy(sys.particles.mass, Real(rho0));  // ρ0 Δx³
@@ -125,7 +131,8 @@ Profile measure(const Channel<Real, Exec>& c, const ChannelSetup& s) {
   for (int l = 0; l < layers; ++l) {
     p.z.push_back(sum_z[l] / count[l]);
     p.u.push_back(sum_u[l] / count[l]);
-    const double analytic = c.g / (2 * s.nu) * p.z[l] * (c.H - p.z[l]);
+    const double analytic = s.wall_speed > 0 ? s.wall_speed * (2 * p.z[l] / c.H - 1)
+                                              : c.g / (2 * s.nu) * p.z[l] * (c.H - p.z[l]);
     p.max_error = std::max(p.max_error, std::abs(p.u[l] - analytic) / s.u_max);
   }
   return p;
@@ -160,6 +167,43 @@ TYPED_TEST(SphFlowTest, PlanePoiseuilleWithMorrisWallsMatchesTheParabola) {
   EXPECT_LT(p.max_error, 0.02);
   EXPECT_LT(p.max_density_deviation, 0.01);
   EXPECT_LT(p.max_transverse, 0.01);
+}
+
+// Plane Couette flow between Morris walls sliding at ±V (the shear cell of §4.1): from rest to
+// steady state (t = H²/ν), every layer within 2% of V of the line u = V(2z/H − 1); the sliding
+// walls move with their velocity, never accelerated.
+TEST(SphFlow, PlaneCouetteBetweenSlidingMorrisWalls) {
+  using Exec = Kokkos::DefaultExecutionSpace;
+  ChannelSetup s;
+  s.wall_speed = 0.1;
+  s.u_max = 0.1;
+  s.sort_every = 0;  // index i stays particle i: the walls' travel is checked per particle
+  auto c = make_channel<double, Exec>(s);
+  const auto x0 = Kokkos::create_mirror(Kokkos::HostSpace(), c.sys.particles.x);  // a copy, not an alias
+  Kokkos::deep_copy(x0, c.sys.particles.x);
+  const auto t0 = c.sys.current_step();
+  run_for(c, s, 1.0);
+  const Profile p = measure(c, s);
+  std::cout << "[ measured ] Couette, sliding Morris walls: max |u − u_analytic|/V = " << p.max_error
+            << ", max |ρ − ρ0|/ρ0 = " << p.max_density_deviation << "\n";
+  EXPECT_LT(p.max_error, 0.02);
+  EXPECT_LT(p.max_density_deviation, 0.01);
+  // Walls: x advanced by V t exactly (up to the periodic wrap and round-off), y, z unchanged.
+  const auto x = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), c.sys.particles.x);
+  const auto v = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), c.sys.particles.v);
+  const auto type = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), c.sys.particles.type);
+  const double travel = double(c.sys.current_step() - t0) * double(c.sys.dt()) * s.wall_speed;
+  double worst = 0;
+  for (std::size_t i = 0; i < x.extent(0); ++i) {
+    if (type(i) != particle_type::wall) continue;
+    const double vx = double(v(i, 0));
+    EXPECT_EQ(std::abs(vx), s.wall_speed);
+    double dx = double(x(i, 0)) - double(x0(i, 0)) - (vx > 0 ? travel : -travel);
+    dx -= s.sites * std::round(dx / s.sites);
+    worst = std::max({worst, std::abs(dx), std::abs(double(x(i, 1)) - double(x0(i, 1))),
+                      std::abs(double(x(i, 2)) - double(x0(i, 2)))});
+  }
+  EXPECT_LT(worst, 1e-9);
 }
 
 // The paper's walls (fixed particles at zero velocity): the profile is a parabola of the right
@@ -303,6 +347,57 @@ TEST(SphFlow, DefaultViscousTimeStepIsStableAndThePapersIsNot) {
   const long paper = blow_up_step(0.5);
   std::cout << "[ measured ] the paper's viscous time step: |v| > 10 U after " << paper << " steps\n";
   EXPECT_GE(paper, 0);
+}
+
+// The acoustic–viscous limit of sph_time_step.hpp: a periodic box of fluid at c0 = 90, ν = 2
+// (Lucy support 2.5Δx, random velocities ±0.05): at the default limits (Δt = 2ν/c², binding) the
+// largest speed stays below twice its start over 1500 steps; at the acoustic limit alone
+// (Δt = 0.25 h/c, 7 times larger) the explicit-Euler-like sound mode grows past 20 times it.
+double largest_speed_after(double dt, int steps) {
+  using Exec = Kokkos::DefaultExecutionSpace;
+  const int L = 16;
+  const double lo_[3] = {0, 0, 0}, len[3] = {double(L), double(L), double(L)};
+  const bool periodic[3] = {true, true, true};
+  SphSystem<3, double, Exec> sys(LucyKernel<3, double>(2.5), TaitEquationOfState<double>(1.0, 90.0),
+                                 Box<3, double>(lo_, len, periodic), dt);
+  sys.allocate(L * L * L);
+  auto x = Kokkos::create_mirror_view(sys.particles.x);
+  auto v = Kokkos::create_mirror_view(sys.particles.v);
+  std::mt19937 gen(7);
+  std::uniform_real_distribution<double> noise(-0.05, 0.05);
+  int i = 0;
+  for (int a = 0; a < L; ++a)
+    for (int b = 0; b < L; ++b)
+      for (int c = 0; c < L; ++c, ++i) {
+        x(i, 0) = a + 0.5;
+        x(i, 1) = b + 0.5;
+        x(i, 2) = c + 0.5;
+        for (int d = 0; d < 3; ++d) v(i, d) = noise(gen);
+      }
+  Kokkos::deep_copy(sys.particles.x, x);
+  Kokkos::deep_copy(sys.particles.v, v);
+  Kokkos::deep_copy(sys.particles.mass, 1.0);
+  Kokkos::deep_copy(sys.mu, 2.0);
+  sys.begin();
+  double vmax = 0;
+  for (int k = 0; k < steps; ++k) sys.step();
+  const auto vh = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sys.particles.v);
+  for (std::size_t j = 0; j < vh.extent(0); ++j)
+    for (int d = 0; d < 3; ++d) vmax = std::max(vmax, std::isfinite(vh(j, d)) ? std::abs(vh(j, d)) : 1e300);
+  return vmax;
+}
+
+TEST(SphFlow, AcousticViscousLimitKeepsTheSchemeStable) {
+  const double h = 1.25, nu = 2, c = 90;
+  const auto limits = sph_time_step_limits(h, nu, c, 0.0);
+  EXPECT_STREQ(limits.binding(), "acoustic-viscous");
+  EXPECT_DOUBLE_EQ(limits.dt(), 2 * nu / (c * c));
+  const double bounded = largest_speed_after(limits.dt(), 1500);
+  const double grown = largest_speed_after(limits.acoustic, 600);
+  std::cout << "[ measured ] largest speed / 0.05: at the default limits " << bounded / 0.05
+            << " after 1500 steps; at the acoustic limit alone " << grown / 0.05 << " after 600 steps\n";
+  EXPECT_LT(bounded, 0.1);
+  EXPECT_GT(grown, 1.0);
 }
 
 }  // namespace
