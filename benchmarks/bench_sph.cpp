@@ -2,7 +2,9 @@
 // lattice of spacing Δx in a periodic cube, ρ0 = 1, random velocities of amplitude U = 0.1, Tait
 // equation of state with c0 = 10U (eq. 6), ν = 0.01, Lucy kernel of support 2.5Δx (the paper's
 // kernel; ~80 neighbours within the support on the lattice, ~65 once disordered), dt from the
-// limits of sph_time_step.hpp (acoustic here). items_per_second = particle-steps/s; a step is
+// limits of sph_time_step.hpp (the acoustic–viscous one, 2ν/c0² = 0.02, binds here; before it
+// existed the acoustic 0.31 did, and particles crossed the skin 16 times as often per step).
+// items_per_second = particle-steps/s; a step is
 // everything SphSystem::step does: half kick, half density update, extrapolated velocity and drift
 // (eqs. 11–14); neighbor-list upkeep (skin criterion, periodic memory sort); packed rows with the
 // pressures of eq. (6); the fused density-rate + pressure + viscous pair loop (eqs. 4–5) over a full
