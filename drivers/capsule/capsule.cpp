@@ -99,26 +99,11 @@ struct Parameters {
   bool restart = false;
 };
 
+// A comma list of values in (lo, hi].
 std::vector<double> parse_list(const std::string& text, const std::string& flag, double lo, double hi) {
-  std::vector<double> out;
-  std::stringstream ss(text);
-  std::string item;
-  while (std::getline(ss, item, ',')) {
-    std::size_t used = 0;
-    double v = 0;
-    try {
-      v = std::stod(item, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    while (used < item.size() && std::isspace(static_cast<unsigned char>(item[used]))) ++used;
-    if (used == 0 || used != item.size() || !std::isfinite(v) || !(v > lo && v <= hi))
-      throw std::invalid_argument(flag + ": each value must be a number in (" + std::to_string(lo) + ", " +
-                                  std::to_string(hi) + "], got '" + item + "'");
-    out.push_back(v);
-  }
-  if (out.empty()) throw std::invalid_argument(flag + ": give at least one value");
-  return out;
+  std::ostringstream range;
+  range << "in (" << lo << ", " << hi << "]";
+  return cli::parse_number_list(text, flag, [=](double v) { return v > lo && v <= hi; }, range.str());
 }
 
 std::string tag(double v) {
@@ -673,7 +658,7 @@ int main(int argc, char** argv) {
   };
   app.add_string("--ca", par.ca, "capillary number(s) Ca = mu U a/G_s, comma-separated, each in (0, 100]")
       ->check(list_check("--ca", 0.0, 100.0));
-  app.add_string("--eta", par.eta, "constriction width(s) eta = t_c/d, comma-separated, each in (0, 2]")
+  app.add_string("--eta", par.eta, "constriction mode: width(s) eta = t_c/d, comma-separated, each in (0, 2]")
       ->check(list_check("--eta", 0.0, 2.0));
   app.add_real("--reynolds", par.reynolds, "Re = rho U d/mu (shear: rho gamma a^2/mu)", 1e-3, 100.0);
   app.add_real("--thickness", par.thickness, "membrane thickness h_t / lattice spacing", 0.25, 4.0);
@@ -693,13 +678,13 @@ int main(int argc, char** argv) {
   app.add_real("--t-max", par.t_max, "run length limit, d/U (shear: gamma t)", 0.0, 1e4, Bounds::left_open);
   app.add_real("--sample-every", par.sample_every, "sampling interval, d/U (shear: gamma t)", 0.0, 10.0,
                Bounds::left_open);
-  app.add_real("--frame-every", par.frame_every, "membrane trajectory frame interval, d/U", 0.0, 100.0,
+  app.add_real("--frame-every", par.frame_every, "constriction mode: membrane trajectory frame interval, d/U", 0.0, 100.0,
                Bounds::left_open);
-  app.add_real("--stall-window", par.stall_window, "blockage: centroid moves < 0.01 d over this time, d/U", 0.0, 1e3,
+  app.add_real("--stall-window", par.stall_window, "constriction mode: blocked when the centroid moves < 0.01 d over this time, d/U", 0.0, 1e3,
                Bounds::left_open);
-  app.add_real("--shear-box-x", par.shear_box_x, "shear box along the flow, in d", 2.0, 20.0);
-  app.add_real("--shear-box-y", par.shear_box_y, "shear box across (wall to wall), in d", 1.5, 20.0);
-  app.add_real("--shear-box-z", par.shear_box_z, "shear box along the vorticity, in d", 1.5, 20.0);
+  app.add_real("--shear-box-x", par.shear_box_x, "shear mode: box along the flow, in d", 2.0, 20.0);
+  app.add_real("--shear-box-y", par.shear_box_y, "shear mode: box across (wall to wall), in d", 1.5, 20.0);
+  app.add_real("--shear-box-z", par.shear_box_z, "shear mode: box along the vorticity, in d", 1.5, 20.0);
   app.add_int("--threads", par.threads, "host threads (0: OMP_NUM_THREADS or all cores)", 0, 4096);
   app.add_flag("--restart", par.restart, "reuse the finished runs (Ca, eta) of the same scene");
   return app.run(argc, argv, [&] {

@@ -9,10 +9,12 @@
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <functional>
 #include <iostream>
 #include <limits>
 #include <optional>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <type_traits>
@@ -154,5 +156,29 @@ class DriverApp {
   bool quiet_ = false;
   bool dry_run_ = false;
 };
+
+// The comma list `text` of option `flag`: each item a number that `accept` takes (else an
+// error naming the option, the item and `range`), at least one.
+template <class Accept>
+std::vector<double> parse_number_list(const std::string& text, const std::string& flag, const Accept& accept,
+                                      const std::string& range) {
+  std::vector<double> out;
+  std::stringstream ss(text);
+  std::string item;
+  while (std::getline(ss, item, ',')) {
+    std::size_t used = 0;
+    double v = 0;
+    try {
+      v = std::stod(item, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used == 0 || used != item.size() || !std::isfinite(v) || !accept(v))
+      throw std::invalid_argument(flag + ": each value must be a number " + range + ", got '" + item + "'");
+    out.push_back(v);
+  }
+  if (out.empty()) throw std::invalid_argument(flag + ": at least one value, got '" + text + "'");
+  return out;
+}
 
 }  // namespace mesoflow::cli

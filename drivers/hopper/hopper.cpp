@@ -77,33 +77,9 @@ struct Parameters {
   bool no_plot = false;
 };
 
-// The comma list `text` of option `flag`: each item a whole number that `accept` takes (else an
-// error naming the option, the item and `range`), at least one.
-template <class Accept>
-std::vector<double> parse_number_list(const std::string& text, const std::string& flag, const Accept& accept,
-                                      const std::string& range) {
-  std::vector<double> out;
-  std::stringstream ss(text);
-  std::string item;
-  while (std::getline(ss, item, ',')) {
-    std::size_t used = 0;
-    double v = 0;
-    try {
-      v = std::stod(item, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used == 0 || used != item.size() || !std::isfinite(v) || !accept(v))
-      throw std::invalid_argument(flag + ": each value must be a number " + range + ", got '" + item + "'");
-    out.push_back(v);
-  }
-  if (out.empty()) throw std::invalid_argument(flag + ": at least one value, got '" + text + "'");
-  return out;
-}
-
 // --widths: each in (0, W).
 std::vector<double> parse_widths(const std::string& text, double W) {
-  return parse_number_list(
+  return cli::parse_number_list(
       text, "--widths", [W](double w) { return w > 0 && w < W; }, "in (0, W = " + std::to_string(W) + ")");
 }
 
@@ -261,7 +237,7 @@ std::optional<hopper::BeverlooFit> run(const SceneParameters& scene_base, const 
 
 // --values: each > 0 (drag and friction may be 0).
 std::vector<double> parse_values(const std::string& text, bool zero_allowed) {
-  return parse_number_list(
+  return cli::parse_number_list(
       text, "--values", [zero_allowed](double v) { return zero_allowed ? v >= 0 : v > 0; },
       zero_allowed ? ">= 0" : "> 0");
 }

@@ -154,12 +154,7 @@ class SphPairInteractions {
             rate += double(ContinuityDensity<D, Real>::rate(m_j, dW_over_r, dr, uij));
             Vec<D, Real> vij = uij;
             if constexpr (Morris) {
-              if (wall_i != is_fixed(type(j))) {
-                const int w = wall_i ? i : j;
-                Real offset = 0;  // (x_fluid − x_wall)·n_wall
-                for (int d = 0; d < D; ++d) offset += dr[d] * walls(w, d);
-                vij *= morris(wall_i ? -offset : offset, walls(w, wall_depth_column<D>));
-              }
+              if (wall_i != is_fixed(type(j))) vij *= wall_factor(wall_i, i, j, dr, walls, morris);
             }
             const Vec<D, Real> fij = PressureViscousForce<D, Real>::pair(
                 m_j, p_rho2_i, rows(j, C::p_over_rho2), mu_i, rows(j, C::mu), inv_rho_i, rows(j, C::inv_rho),
@@ -227,12 +222,7 @@ class SphPairInteractions {
             rate += double(m_j * r_ij);
             Vec<D, Real> vij = uij;
             if constexpr (Morris) {
-              if (wall_i != is_fixed(type(j))) {
-                const int w = wall_i ? i : j;
-                Real offset = 0;  // (x_fluid − x_wall)·n_wall
-                for (int d = 0; d < D; ++d) offset += dr[d] * walls(w, d);
-                vij *= morris(wall_i ? -offset : offset, walls(w, wall_depth_column<D>));
-              }
+              if (wall_i != is_fixed(type(j))) vij *= wall_factor(wall_i, i, j, dr, walls, morris);
             }
             const Vec<D, Real> t_ij = PressureViscousForce<D, Real>::pair(
                 Real(1), p_rho2_i, rows(j, C::p_over_rho2), mu_i, rows(j, C::mu), inv_rho_i, rows(j, C::inv_rho),
@@ -255,6 +245,17 @@ class SphPairInteractions {
           for (int d = 0; d < D; ++d) f(i, d) = Real(double(m(i)) * (acc(i, d) + double(body.component(ti, d))));
           drho(i) = Real(acc(i, D));
         });
+  }
+
+  // Morris' β for the viscous term of a fluid–wall pair (i, j), dr = x_i − x_j: the wall particle's
+  // normal and depth give the fluid particle's distance from the wall surface (no_slip_walls.hpp).
+  KOKKOS_INLINE_FUNCTION static Real wall_factor(bool wall_i, int i, int j, const Vec<D, Real>& dr,
+                                                 const WallGeometry<D, Real, ExecSpace>& walls,
+                                                 const MorrisWallFactor<Real>& morris) {
+    const int w = wall_i ? i : j;
+    Real offset = 0;  // (x_fluid − x_wall)·n_wall
+    for (int d = 0; d < D; ++d) offset += dr[d] * walls(w, d);
+    return morris(wall_i ? -offset : offset, walls(w, wall_depth_column<D>));
   }
 
   Kernel kernel_;
