@@ -50,16 +50,22 @@ class BodyObstacleList {
       throw std::invalid_argument("body obstacle list: " + std::to_string(body_array.extent(0)) +
                                   " body arrays for " + std::to_string(nb) + " bodies");
     const int num_arrays = obstacles.num_arrays();
-    int bad = 0;
-    Kokkos::parallel_reduce(
-        "mesoflow::body_obstacle_list::check_arrays", Kokkos::RangePolicy<ExecSpace>(0, nb),
-        KOKKOS_LAMBDA(int b, int& acc) { acc += body_array(b) < 0 || body_array(b) >= num_arrays ? 1 : 0; }, bad);
-    if (bad > 0)
+    if (count_bodies_outside(body_array, num_arrays) > 0)
       throw std::invalid_argument("body obstacle list: a body's obstacle array is outside [0, " +
                                   std::to_string(num_arrays) + ")");
     reference_ = Kokkos::View<Real* [3], ExecSpace>("mesoflow::body_obstacle_list::reference", nb);
     count_ = int_view("mesoflow::body_obstacle_list::count", nb + 1);
     stale_ = int_view("mesoflow::body_obstacle_list::stale", nb);
+  }
+
+  // Bodies whose obstacle array is outside [0, num_arrays). (A function of its own: nvcc rejects a
+  // KOKKOS_LAMBDA in a constructor.)
+  static int count_bodies_outside(const int_view& body_array, int num_arrays) {
+    int bad = 0;
+    Kokkos::parallel_reduce(
+        "mesoflow::body_obstacle_list::check_arrays", Kokkos::RangePolicy<ExecSpace>(0, body_array.extent(0)),
+        KOKKOS_LAMBDA(int b, int& acc) { acc += body_array(b) < 0 || body_array(b) >= num_arrays ? 1 : 0; }, bad);
+    return bad;
   }
 
   // Rebuilds if some particle left its body's disk of radius R_b + skin (or before the first
@@ -82,7 +88,9 @@ class BodyObstacleList {
     rebuild(x);
   }
 
- private:
+  // rebuild, mark_stale and max_reach_bound are implementation details, public only because nvcc
+  // rejects a KOKKOS_LAMBDA in a private or protected member function.
+
   // Moves the reference disks of the stale bodies, then recounts and refills every body's candidates
   // (those of the other bodies come out identical: same disk, same array, same order).
   template <class PositionView>
@@ -207,7 +215,6 @@ class BodyObstacleList {
   const ObstacleArray<Real, ExecSpace>& obstacles() const { return obstacles_; }
   const int_view& body_array() const { return body_array_; }
 
- private:
   // Marks the bodies some particle of which has left the disk of radius R_b + skin around c_b;
   // returns whether there is one.
   template <class PositionView>
@@ -257,6 +264,7 @@ class BodyObstacleList {
     return extent + skin_ + obstacles_.cell_width();
   }
 
+ private:
   ObstacleArray<Real, ExecSpace> obstacles_;
   int_view body_offset_;
   int_view body_array_;  // obstacle array of each body

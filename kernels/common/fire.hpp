@@ -84,6 +84,24 @@ struct FirePowerFunctor {
     if (src.max_f2 > dst.max_f2) dst.max_f2 = src.max_f2;
   }
 };
+
+// One FIRE move: v ← zero_v (mix_v v + mix_f F), then v += h F/m, x += h v. A function of its own:
+// nvcc rejects a KOKKOS_LAMBDA in a function template instantiated with a host lambda's type, as
+// fire_minimize is with its force callback.
+template <int D, class Real, class ExecSpace>
+void fire_move(const Particles<D, Real, ExecSpace>& p, Real h, Real zero_v, Real mix_v, Real mix_f) {
+  const auto x = p.x, v = p.v, f = p.f;
+  const auto m = p.mass;
+  Kokkos::parallel_for(
+      "mesoflow::fire::step", Kokkos::RangePolicy<ExecSpace>(0, p.size()), KOKKOS_LAMBDA(int i) {
+        const Real inv_m = Real(1) / m(i);
+        for (int d = 0; d < D; ++d) {
+          const Real mixed = zero_v * (mix_v * v(i, d) + mix_f * f(i, d));
+          v(i, d) = mixed + h * f(i, d) * inv_m;
+          x(i, d) += h * v(i, d);
+        }
+      });
+}
 }  // namespace detail
 
 // Minimizes the energy whose forces compute_forces() writes into p.f (overwriting them) and
@@ -92,8 +110,7 @@ template <int D, class Real, class ExecSpace, class ForceFunction>
 FireResult fire_minimize(const Particles<D, Real, ExecSpace>& p, ForceFunction&& compute_forces,
                          const FireParameters& params) {
   params.validate();
-  const auto x = p.x, v = p.v, f = p.f;
-  const auto m = p.mass;
+  const auto v = p.v, f = p.f;
   const int n = int(p.size());
   Kokkos::deep_copy(v, Real(0));
 
@@ -130,16 +147,7 @@ FireResult fire_minimize(const Particles<D, Real, ExecSpace>& p, ForceFunction&&
       alpha = params.alpha_start;
       zero_v = Real(0);
     }
-    const Real h = Real(dt);
-    Kokkos::parallel_for(
-        "mesoflow::fire::step", Kokkos::RangePolicy<ExecSpace>(0, n), KOKKOS_LAMBDA(int i) {
-          const Real inv_m = Real(1) / m(i);
-          for (int d = 0; d < D; ++d) {
-            const Real mixed = zero_v * (mix_v * v(i, d) + mix_f * f(i, d));
-            v(i, d) = mixed + h * f(i, d) * inv_m;
-            x(i, d) += h * v(i, d);
-          }
-        });
+    detail::fire_move(p, Real(dt), zero_v, mix_v, mix_f);
     result.energy = compute_forces();
   }
   Kokkos::deep_copy(v, Real(0));

@@ -180,6 +180,10 @@ class NeighborList {
     return half ? fill<true, false>(box) : fill<false, false>(box);
   }
 
+ public:
+  // gather_body and fill<Half, ExcludeBody> are implementation details, public only because nvcc
+  // rejects a KOKKOS_LAMBDA in a private or protected member function.
+
   // Body ids in binned order, so the exclusion test streams like the positions do.
   void gather_body(const int_view& body) {
     const int n = cells_.num_particles();
@@ -320,6 +324,7 @@ class NeighborList {
     return needed;
   }
 
+ private:
   Real cutoff_, skin_;
   Real inner_cutoff_ = 0;  // 0: no inner split (every neighbor counts as inner)
   NeighborListKind kind_;

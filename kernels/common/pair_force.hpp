@@ -63,7 +63,9 @@ class PairForce {
         });
   }
 
- private:
+  // full_row_force, accumulate_full and accumulate_half are implementation details, public only
+  // because nvcc rejects a KOKKOS_LAMBDA in a private or protected member function.
+
   // Σ_j F_ij over row `row` (particle i) of a full list, in list order; adds the pair energies to e_sum.
   template <class Evaluator, class Neighbors, class Positions, class Types>
   KOKKOS_INLINE_FUNCTION static Vec<D, Real> full_row_force(const Evaluator& eval, const Neighbors& nbr,
@@ -151,6 +153,7 @@ class PairForce {
     return energy;
   }
 
+ private:
   Kokkos::Experimental::ScatterView<Real* [D], Kokkos::LayoutLeft, ExecSpace> scatter_;
   const Real* scatter_target_ = nullptr;
 };

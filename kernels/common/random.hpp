@@ -257,11 +257,15 @@ void fill_uniform(const View& v, typename View::const_value_type lo,
       "mesoflow::random::fill_uniform", Kokkos::RangePolicy<exec>(0, v.extent(0)),
       KOKKOS_LAMBDA(const std::size_t i) {
         auto generator = pool.get_state();
+        // Captured here: nvcc rejects a lambda whose first use of a captured variable is inside
+        // `if constexpr`.
+        const View& w = v;
+        const auto a = lo, b = hi;
         if constexpr (View::rank == 1) {
-          v(i) = draw_type::draw(generator, lo, hi);
+          w(i) = draw_type::draw(generator, a, b);
         } else {
-          for (std::size_t d = 0; d < v.extent(1); ++d)
-            v(i, d) = draw_type::draw(generator, lo, hi);
+          for (std::size_t d = 0; d < w.extent(1); ++d)
+            w(i, d) = draw_type::draw(generator, a, b);
         }
         pool.free_state(generator);
       });

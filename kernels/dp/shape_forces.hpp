@@ -99,7 +99,9 @@ double vertex_loop(const char* label, const Polygons<Real, ExecSpace>& polygons,
         const BodyShape<Real> shape{area(b), a0(b), l0(b), n};
         Vec2<Real> fi = Vec2<Real>::zero();
         term_list.add(s, shape, fi, e_acc);
-        if constexpr (AddForces)
+        // `if`, not `if constexpr`: nvcc rejects a KOKKOS_LAMBDA whose first use of a captured
+        // variable is inside `if constexpr` (the condition is a compile-time constant all the same).
+        if (AddForces)
           for (int d = 0; d < 2; ++d) f(i, d) += fi[d];
       },
       energy);

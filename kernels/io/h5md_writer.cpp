@@ -233,7 +233,10 @@ H5mdWriter::Series H5mdWriter::load_series(const std::string& series_path, std::
   series.step = open_dataset(file_.get(), series_path + "/step");
   series.time = open_dataset(file_.get(), series_path + "/time");
   const Datatype value_type = dataset_type(series.value.get());
-  for (const hid_t native : {H5T_NATIVE_FLOAT, H5T_NATIVE_DOUBLE, H5T_NATIVE_INT})
+  // A named array, not a braced list in the loop: nvcc's front end garbles a range-for over a
+  // braced list of these macros (each expands to a comma expression).
+  const hid_t natives[] = {H5T_NATIVE_FLOAT, H5T_NATIVE_DOUBLE, H5T_NATIVE_INT};
+  for (const hid_t native : natives)
     if (same_representation(value_type.get(), native)) series.mem_type = native;
   if (series.mem_type == H5I_INVALID_HID) invalid("value holds " + describe_type(value_type.get()));
   if (!same_representation(dataset_type(series.step.get()).get(), native_type<std::int64_t>()) ||

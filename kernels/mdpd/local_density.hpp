@@ -39,7 +39,8 @@ class LocalDensity {
 
   const DensityWeight<D, Real>& weight() const { return weight_; }
 
- private:
+  // compute_full, compute_half and row_vector are implementation details, public only because nvcc
+  // rejects a KOKKOS_LAMBDA in a private or protected member function.
   void compute_full(const PackedRows<Real, ExecSpace>& x, const NeighborList<D, Real, ExecSpace>& list,
                     const Box<D, Real>& box, const scalar_view& rho) const {
     const auto nbr = list.data();
@@ -105,6 +106,7 @@ class LocalDensity {
     return r;
   }
 
+ private:
   DensityWeight<D, Real> weight_;
   bool use_inner_ = false;
   decltype(Kokkos::Experimental::create_scatter_view(scalar_view())) scatter_;

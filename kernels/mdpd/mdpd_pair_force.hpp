@@ -82,7 +82,9 @@ class MdpdPairForce {
     }
   }
 
- private:
+  // Args, pair, row_vector, full and half are implementation details, public only because nvcc
+  // rejects a KOKKOS_LAMBDA in a private or protected member function, or one capturing a value of a
+  // private type.
   struct Args {
     rows_view xr, vr;
     type_view type;
@@ -220,7 +222,9 @@ class MdpdPairForce {
               const Vec<D, Real> fij = f_over_r * dr;
               fi += fij;
               for (int d = 0; d < D; ++d) access(j, d) -= fij[d];
-              if constexpr (Record) {
+              // `if`, not `if constexpr`: nvcc rejects a KOKKOS_LAMBDA whose first use of a captured
+              // variable is inside `if constexpr` (the condition is a compile-time constant all the same).
+              if (Record) {
                 auto drag_access = drag_scatter.access();
                 if (is_solid(ti) && tj == particle_type::fluid)
                   for (int d = 0; d < D; ++d) drag_access(i, d) += fij[d];
@@ -239,6 +243,7 @@ class MdpdPairForce {
     }
   }
 
+ private:
   ConservativeForce<D, Real> conservative_;
   DissipativeRandomForce<Real> thermostat_;
   LennardJones<Real> wca_;

@@ -136,7 +136,9 @@ class MdpdSystem {
   vector_view site;          // tether sites of solid particles
   vector_view solid_drag;    // force of the fluid on each solid particle (when recorded)
 
- private:
+  // prepare_terms and compute_forces are implementation details, public only because nvcc rejects a
+  // KOKKOS_LAMBDA in a private or protected member function.
+
   // Which terms the scene needs (solids with tethers, solid cores with WCA), and a fresh list.
   void prepare_terms() {
     const auto type = particles.type;
@@ -196,6 +198,7 @@ class MdpdSystem {
     add_split_body_force(particles, split_, box_);
   }
 
+ private:
   MdpdParameters par_;
   Box<D, Real> box_;
   MdpdOptions opt_;

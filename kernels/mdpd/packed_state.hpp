@@ -11,7 +11,9 @@
 namespace mesoflow::mdpd {
 
 constexpr int packed_width = 4;
-constexpr int rho_column = 3;  // column of ρ̄ in the position rows (2D and 3D)
+// Column of ρ̄ in the position rows (2D and 3D). An enumerator, not a constexpr int: Kokkos 3's View
+// takes indices by reference, and nvcc has no device copy of a namespace-scope variable to refer to.
+enum : int { rho_column = 3 };
 
 template <class Real, class ExecSpace>
 using PackedRows = Kokkos::View<Real* [packed_width], Kokkos::LayoutRight, ExecSpace>;

@@ -256,6 +256,9 @@ class ChannelFlow {
     }
   }
 
+ public:
+  // initialise_solvent is an implementation detail, public only because nvcc rejects a
+  // KOKKOS_LAMBDA in a private or protected member function.
   void initialise_solvent() {
     const auto x = x_;
     const auto bins = discs_.bins();
@@ -289,6 +292,7 @@ class ChannelFlow {
     fill_maxwell_boltzmann<2, Real, ExecSpace>(v_, p_.kT, p_.mass, p_.seed, 1);
   }
 
+ private:
   ChannelFlowParameters<Real> p_;
   MpcCollision<2, Real, ExecSpace> collision_;
   RigidDiscs<Real, ExecSpace> discs_;

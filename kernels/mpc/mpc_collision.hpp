@@ -262,6 +262,9 @@ class MpcCollision {
     }
   }
 
+ public:
+  // run is an implementation detail, public only because nvcc rejects a KOKKOS_LAMBDA in a private
+  // or protected member function.
   template <bool Stream, class Rule>
   void run(const Rule& rule, const vector_view& x, const vector_view& v, const vector_view& xv, const vector_view& vv,
            std::size_t n_virtual, std::uint64_t step, Real h, const Kokkos::Array<Real, D>& g) {
@@ -293,7 +296,9 @@ class MpcCollision {
               xi[d] = real ? x(j, d) : xv(j, d);
               vi[d] = real ? v(j, d) : vv(j, d);
             }
-            if constexpr (Stream) {
+            // `if`, not `if constexpr`: nvcc rejects a KOKKOS_LAMBDA whose first use of a captured
+            // variable is inside `if constexpr` (the condition is a compile-time constant all the same).
+            if (Stream) {
               if (real) {
                 stream_particle(xi, vi, h, g, grid);
                 for (int d = 0; d < D; ++d) {
@@ -304,7 +309,7 @@ class MpcCollision {
             }
             const int c = grid.locate(xi, r);
             cell_of(i) = c;
-            if constexpr (Rule::uses_random_velocity) {
+            if (Rule::uses_random_velocity) {
               RandomStream rs = real ? particle_stream(seed, step, static_cast<std::uint32_t>(j))
                                      : RandomStream(seed, step, mpc_stream_tag::virtual_particle,
                                                     static_cast<std::uint32_t>(j));
@@ -330,7 +335,9 @@ class MpcCollision {
                 xi[d] = x(i, d);
                 vi[d] = v(i, d);
               }
-              if constexpr (Stream) {
+              // `if`, not `if constexpr`: nvcc rejects a KOKKOS_LAMBDA whose first use of a captured
+              // variable is inside `if constexpr` (the condition is a compile-time constant all the same).
+              if (Stream) {
                 stream_particle(xi, vi, h, g, grid);
                 for (int d = 0; d < D; ++d) {
                   x(i, d) = xi[d];
@@ -339,7 +346,7 @@ class MpcCollision {
               }
               const int c = grid.locate(xi, r);
               cell_of(i) = c;
-              if constexpr (Rule::uses_random_velocity) {
+              if (Rule::uses_random_velocity) {
                 RandomStream rs = particle_stream(seed, step, static_cast<std::uint32_t>(i));
                 thermal_velocity(rs, speed, vr);
                 for (int d = 0; d < D; ++d) vran(i, d) = vr[d];
@@ -386,7 +393,9 @@ class MpcCollision {
           const int j = real ? i : i - n;
           const int c = cell_of(i);
           Real r[D], vi[D], vr[D];
-          if constexpr (Rule::uses_position) {
+          // `if`, not `if constexpr`: nvcc rejects a KOKKOS_LAMBDA whose first use of a captured
+          // variable is inside `if constexpr` (the condition is a compile-time constant all the same).
+          if (Rule::uses_position) {
             Real xi[D];
             for (int d = 0; d < D; ++d) xi[d] = real ? x(j, d) : xv(j, d);
             grid.locate(xi, r);
@@ -394,7 +403,7 @@ class MpcCollision {
             for (int d = 0; d < D; ++d) r[d] = Real(0);
           }
           for (int d = 0; d < D; ++d) vi[d] = real ? v(j, d) : vv(j, d);
-          if constexpr (Rule::uses_random_velocity) {
+          if (Rule::uses_random_velocity) {
             for (int d = 0; d < D; ++d) vr[d] = vran(i, d);
           } else {
             for (int d = 0; d < D; ++d) vr[d] = Real(0);
@@ -408,6 +417,7 @@ class MpcCollision {
         });
   }
 
+ private:
   CollisionGrid<D, Real> grid_;
   CollisionParameters<Real> params_;
   std::size_t particle_capacity_, virtual_capacity_;

@@ -79,7 +79,9 @@ double wall_repulsion(Real epsilon_w, const SoftSphereRepulsion<Real>& sizes, co
       "mesoflow::sp::wall_repulsion", Kokkos::RangePolicy<ExecSpace>(0, p.size()),
       KOKKOS_LAMBDA(int i, double& acc) {
         unsigned mask = ~0u;
-        if constexpr (use_candidates) {
+        // `if`, not `if constexpr`: nvcc rejects a KOKKOS_LAMBDA whose first use of a captured
+        // variable is inside `if constexpr` (the condition is a compile-time constant all the same).
+        if (use_candidates) {
           mask = candidates(i);
           if (mask == 0u) return;
         }

@@ -39,13 +39,17 @@ namespace mesoflow::sph {
 // Columns of a packed row.
 template <int D>
 struct SphColumn {
-  static constexpr int x = 0;            // position, D columns
-  static constexpr int u = D;            // extrapolated velocity ū, D columns
-  static constexpr int mass = 2 * D;
-  static constexpr int inv_rho = 2 * D + 1;
-  static constexpr int p_over_rho2 = 2 * D + 2;
-  static constexpr int mu = 2 * D + 3;   // dynamic viscosity
-  static constexpr int width = 2 * D + 4;
+  // Enumerators, not static constexpr ints: Kokkos 3's View takes indices by reference, and nvcc has
+  // no device copy of a host variable to refer to.
+  enum : int {
+    x = 0,            // position, D columns
+    u = D,            // extrapolated velocity ū, D columns
+    mass = 2 * D,
+    inv_rho = 2 * D + 1,
+    p_over_rho2 = 2 * D + 2,
+    mu = 2 * D + 3,   // dynamic viscosity
+    width = 2 * D + 4
+  };
 };
 
 template <int D, class Real, class ExecSpace>
@@ -114,7 +118,8 @@ class SphPairInteractions {
            : run<false>(rows, type, list, box, f, drho, walls, morris);
   }
 
- private:
+  // run, run_half and wall_factor are implementation details, public only because nvcc rejects a
+  // KOKKOS_LAMBDA in a private or protected member function.
   template <bool Morris>
   void run(const SphRows<D, Real, ExecSpace>& rows, const int_view& type, const NeighborList<D, Real, ExecSpace>& list,
            const Box<D, Real>& box, const vector_view& f, const scalar_view& drho,
@@ -153,7 +158,9 @@ class SphPairInteractions {
             const Real m_j = rows(j, C::mass);
             rate += double(ContinuityDensity<D, Real>::rate(m_j, dW_over_r, dr, uij));
             Vec<D, Real> vij = uij;
-            if constexpr (Morris) {
+            // `if`, not `if constexpr`: nvcc rejects a KOKKOS_LAMBDA whose first use of a captured
+            // variable is inside `if constexpr` (the condition is a compile-time constant all the same).
+            if (Morris) {
               if (wall_i != is_fixed(type(j))) vij *= wall_factor(wall_i, i, j, dr, walls, morris);
             }
             const Vec<D, Real> fij = PressureViscousForce<D, Real>::pair(
@@ -221,7 +228,9 @@ class SphPairInteractions {
             const Real r_ij = ContinuityDensity<D, Real>::rate(Real(1), dW_over_r, dr, uij);
             rate += double(m_j * r_ij);
             Vec<D, Real> vij = uij;
-            if constexpr (Morris) {
+            // `if`, not `if constexpr`: nvcc rejects a KOKKOS_LAMBDA whose first use of a captured
+            // variable is inside `if constexpr` (the condition is a compile-time constant all the same).
+            if (Morris) {
               if (wall_i != is_fixed(type(j))) vij *= wall_factor(wall_i, i, j, dr, walls, morris);
             }
             const Vec<D, Real> t_ij = PressureViscousForce<D, Real>::pair(
@@ -255,9 +264,10 @@ class SphPairInteractions {
     const int w = wall_i ? i : j;
     Real offset = 0;  // (x_fluid − x_wall)·n_wall
     for (int d = 0; d < D; ++d) offset += dr[d] * walls(w, d);
-    return morris(wall_i ? -offset : offset, walls(w, wall_depth_column<D>));
+    return morris(wall_i ? -offset : offset, walls(w, int(wall_depth_column<D>)));  // a copy: not odr-used on the device
   }
 
+ private:
   Kernel kernel_;
   BodyForce<D, Real> body_;
   Kokkos::View<double* [D + 1], ExecSpace> acc_;

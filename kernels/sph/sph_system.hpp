@@ -107,16 +107,22 @@ class SphSystem {
 
   template <class ExtraForces>
   void begin(ExtraForces&& extra) {
-    const auto v = particles.v, ub = u_bar;
-    Kokkos::parallel_for(
-        "mesoflow::sph::initial_u_bar", Kokkos::RangePolicy<ExecSpace>(0, particles.size()), KOKKOS_LAMBDA(int i) {
-          for (int d = 0; d < D; ++d) ub(i, d) = v(i, d);
-        });
+    set_u_bar_to_velocity();
     list_.emplace(kernel_.support, Real(opt_.skin_fraction * double(kernel_.support)), opt_.list_kind,
                   BodyExclusion::none, opt_.cells_per_reach);
     builds_since_sort_ = 0;
     compute_rates();
     extra(particles);
+  }
+
+  // ū ← v. Not inside begin(): nvcc rejects a KOKKOS_LAMBDA in a function template instantiated
+  // with a host lambda's type (the extra-forces callback).
+  void set_u_bar_to_velocity() {
+    const auto v = particles.v, ub = u_bar;
+    Kokkos::parallel_for(
+        "mesoflow::sph::initial_u_bar", Kokkos::RangePolicy<ExecSpace>(0, particles.size()), KOKKOS_LAMBDA(int i) {
+          for (int d = 0; d < D; ++d) ub(i, d) = v(i, d);
+        });
   }
 
   void step() { step(NoExtraForces{}); }
