@@ -9,12 +9,14 @@
 #include <benchmark/benchmark.h>
 
 #include "drivers/droplets/droplet_scene.hpp"
+#include "kernels/common/geometry.hpp"
 #include "kernels/dp/bending_force.hpp"
 #include "kernels/sp/obstacle_repulsion.hpp"
 #include "kernels/sp/viscous_drag.hpp"
 
 #include <chrono>
 #include <cmath>
+#include <optional>
 #include <random>
 
 namespace mesoflow::droplets {
@@ -106,7 +108,48 @@ void BM_SoftParticleSurfaceForces(benchmark::State& state) {
   state.SetItemsProcessed(state.iterations() * n);
 }
 
+// The orifice scene of Fig. 2 (N_v = 256, two wedges) composed four ways (issue 8, item 4), in
+// vertex-steps/s:
+//   0 only its terms: shape loop (K_a, K_l, Γ, gravity) + one surface loop (E_w, b∞, b0);
+//   1 every other DP term present with coefficient zero: bending K_b = 0 and an empty obstacle
+//     array — the scene drops both, so this must run as fast as 0;
+//   2 bending switched on with a negligible coefficient (K_b = 10⁻¹²): what the fused loop costs
+//     when it evaluates a term (an obstacle array cannot be switched on harmlessly: its obstacles
+//     cover the box; tests/common/test_zero_coefficient_terms.cpp counts its kernels instead);
+//   3 as 0, with the NaN watchdog checking every 100 steps (drivers/common/nan_watchdog.hpp).
+void BM_OrificeSceneTerms(benchmark::State& state) {
+  const int mode = int(state.range(0));
+  DropletParameters par;
+  if (mode == 2) par.bending_stiffness = 1e-12;
+  const auto wedges = orifice_wedges<double>(0.4, 0.0, 0.0);
+  const std::vector<Shape<2, double>> walls{wedges[0], wedges[1]};
+  const auto surfaces =
+      mode == 1 ? Surfaces<double, Exec>(walls, ObstacleArray<double, Exec>()) : Surfaces<double, Exec>(walls);
+  DropletScene<double, Exec> scene(par, surfaces, {Vec<2, double>{{0.0, 2.0}}});
+  scene.relax(2000);
+  std::optional<watchdog::NanWatchdog> watch;
+  if (mode == 3) watch.emplace(scene.watched(), 100);
+  const int steps_per_iteration = 200;
+  for (auto _ : state) {
+    Kokkos::fence();
+    const auto t0 = std::chrono::steady_clock::now();
+    for (int s = 0; s < steps_per_iteration; ++s) {
+      scene.step();
+      if (watch) watch->after_step();
+    }
+    Kokkos::fence();
+    state.SetIterationTime(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+  }
+  const double steps = double(state.iterations()) * steps_per_iteration;
+  state.SetItemsProcessed(int64_t(steps * par.vertices));
+  state.counters["steps_per_second"] = benchmark::Counter(steps, benchmark::Counter::kIsRate);
+  const char* names[] = {"only_its_terms", "zero_coefficient_terms", "negligible_bending",
+                         "only_its_terms+watchdog"};
+  state.SetLabel(names[mode]);
+}
+
 BENCHMARK(BM_ShapeForcesAllTerms)->UseManualTime()->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_OrificeSceneTerms)->DenseRange(0, 3)->UseManualTime()->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_SoftParticleSurfaceForces)->Arg(65536)->UseManualTime()->Unit(benchmark::kMillisecond);
 BENCHMARK_TEMPLATE(BM_DropletsInObstacleArray, double)->Arg(1)->Arg(256)->UseManualTime()->Unit(benchmark::kMillisecond);
 

@@ -97,6 +97,8 @@ struct Parameters {
   double shear_box_x = 5, shear_box_y = 4, shear_box_z = 4;
   int threads = 0;
   bool restart = false;
+  double dt = 0;          // d/U (shear: 1/γ̇); 0: the scene's stability limit
+  bool force_dt = false;  // --force-dt
 };
 
 // A comma list of values in (lo, hi].
@@ -242,6 +244,10 @@ capsule::CapsuleSceneParameters scene_parameters(const Parameters& par, const ca
   phys.c0 = par.c0 > 0 ? par.c0 : std::max({morris, std::sqrt(delta_p / delta), std::sqrt(pressure_drop / delta)});
   sp.u_max = 1;
   sp.c0 = phys.c0;
+  // --dt in the run's time unit: d/U with U = 1 (constriction), 1/γ̇ (shear); the scene refuses it
+  // above its limit (capsule_scene.hpp) unless --force-dt.
+  if (par.dt > 0) sp.dt = par.dt * (par.mode == "shear" ? 1.0 / phys.shear_rate : d);
+  sp.force_dt = par.force_dt;
   return sp;
 }
 
@@ -252,6 +258,7 @@ std::string scene_signature(const Parameters& par, double ca, double eta) {
     << ";h=" << par.support << ";walls=" << par.walls << ";lambda=" << par.viscosity_ratio << ";c0=" << par.c0
     << ";strain=" << par.membrane_strain << ";delta=" << par.density_variation << ";tmax=" << par.t_max << ";sample=" << par.sample_every
     << ";stall=" << par.stall_window;
+  if (par.dt > 0) s << ";dt=" << par.dt;
   return s.str();
 }
 
@@ -685,6 +692,8 @@ int main(int argc, char** argv) {
   app.add_real("--shear-box-x", par.shear_box_x, "shear mode: box along the flow, in d", 2.0, 20.0);
   app.add_real("--shear-box-y", par.shear_box_y, "shear mode: box across (wall to wall), in d", 1.5, 20.0);
   app.add_real("--shear-box-z", par.shear_box_z, "shear mode: box along the vorticity, in d", 1.5, 20.0);
+  app.add_real("--dt", par.dt, "time step, d/U (shear: 1/gamma); 0: the stability limit, larger is refused", 0.0, 1.0);
+  app.add_flag(mesoflow::cli::force_dt_flag, par.force_dt, mesoflow::cli::force_dt_help);
   app.add_int("--threads", par.threads, "host threads (0: OMP_NUM_THREADS or all cores)", 0, 4096);
   app.add_flag("--restart", par.restart, "reuse the finished runs (Ca, eta) of the same scene");
   return app.run(argc, argv, [&] {

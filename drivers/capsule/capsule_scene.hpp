@@ -69,6 +69,7 @@
 #pragma once
 
 #include "drivers/capsule/channel_geometry.hpp"
+#include "drivers/common/time_step_limit.hpp"
 #include "kernels/common/box.hpp"
 #include "kernels/common/particle_sort.hpp"
 #include "kernels/common/particles.hpp"
@@ -128,6 +129,7 @@ struct CapsuleSceneParameters {
   sph::SphTimeStepCoefficients dt_coefficients;
   double bond_dt_coefficient = 0.5;      // C_b of Δt_bond (harmonic_bonds.hpp)
   std::optional<double> dt;              // default: the smallest limit
+  bool force_dt = false;                 // run a dt above the limit (a warning instead of an error)
 
   void validate() const {
     auto require = [](bool ok, const std::string& what) {
@@ -187,6 +189,15 @@ struct CapsuleTimeStepLimits {
   double bond = std::numeric_limits<double>::infinity();
   double dt() const { return std::min(sph.dt(), bond); }
   const char* binding() const { return bond < sph.dt() ? "bond" : sph.binding(); }
+  // The binding limit with its physical term, for error messages.
+  std::string term() const {
+    const std::string b = binding();
+    if (b == "bond") return "membrane bonds k_b (eq. 7)";
+    if (b == "viscous") return "viscosity ν (Δt ≤ C_ν h²/ν)";
+    if (b == "acoustic") return "sound speed c0 (Δt ≤ C_c h/c0)";
+    if (b == "force") return "largest acceleration |a| (Δt ≤ C_f √(h/|a|))";
+    return "acoustic-viscous coupling (Δt ≤ 2ν/c0²)";
+  }
 };
 
 template <class Real, class ExecSpace = Kokkos::DefaultExecutionSpace>
@@ -209,9 +220,7 @@ class CapsuleScene {
     sys_.begin([this](const auto& p) { add_membrane_forces(p); });
     limits_ = time_step_limits();
     const double limit = limits_.dt();
-    if (par_.dt && *par_.dt > limit)
-      throw std::invalid_argument("capsule scene: time step dt must be <= " + std::to_string(limit) + " (the " +
-                                  limits_.binding() + " limit), got " + std::to_string(*par_.dt));
+    if (par_.dt) cli::check_time_step("capsule scene", *par_.dt, {limit, limits_.term()}, par_.force_dt);
     sys_.set_dt(Real(par_.dt ? *par_.dt : limit));
   }
 

@@ -19,14 +19,17 @@
 // (scripts/plot_crystal.py). Frames before --warmup are written but left out of K and the spectra.
 // <out>.ckpt.h5 is replaced atomically every --checkpoint-interval; --restart continues from it.
 #include "drivers/common/cli.hpp"
+#include "drivers/common/nan_watchdog.hpp"
 #include "drivers/common/output_paths.hpp"
 #include "drivers/common/particle_io.hpp"
 #include "drivers/common/progress.hpp"
+#include "drivers/common/time_step_limit.hpp"
 #include "drivers/crystal/dispersion_theory.hpp"
 #include "drivers/crystal/phonon_spectra.hpp"
 #include "kernels/io/checkpoint.hpp"
 #include "kernels/io/h5md_writer.hpp"
 #include "kernels/mpc/channel_flow.hpp"
+#include "kernels/mpc/stability.hpp"
 
 #include <chrono>
 #include <cmath>
@@ -49,12 +52,14 @@ struct Parameters {
   double time = 100;         // τ measured
   double frame_interval = 1; // τ between frames
   double checkpoint_interval = 500;  // τ between checkpoints
+  long long check_every = 100;       // steps between NaN-watchdog checks
   double calibrated_ratio = 0;  // K of a single-disc run for the theory curves; 0: this run's u_d/u_oil
   long long seed = 1;
   std::string precision = "double";
   int threads = 0;
   bool restart = false;
   bool no_plot = false;
+  bool force_dt = false;  // --force-dt
 };
 
 // η of eq. (B.3) (MPC-AT+a, d = 2, large n).
@@ -149,7 +154,7 @@ void run(const Parameters& par, const cli::DriverApp& app) {
     const std::string stored = ck.get_string("scene");
     if (stored != scene_signature(par))
       throw std::invalid_argument("--restart: " + out.checkpoint + " was written by another scene (" + stored +
-                                  "); only --time, --checkpoint-interval, --threads and --no-plot may change");
+                                  "); only --time, --checkpoint-interval, --check-every, --threads and --no-plot may change");
     std::vector<Real> xs, vs, dx, du, dw;
     ck.get("solvent/x", xs);
     ck.get("solvent/v", vs);
@@ -244,11 +249,36 @@ void run(const Parameters& par, const cli::DriverApp& app) {
   const std::int64_t first = std::int64_t(flow.steps_done());
   cli::ProgressLine progress(total_steps - first, std::int64_t(flow.num_solvent()), !app.quiet());
   const auto wall_start = std::chrono::steady_clock::now();
+  // The NaN watchdog (drivers/common/nan_watchdog.hpp), also checked before every frame and
+  // checkpoint: the last checkpoint always holds a finite state. The discs' steric force is the
+  // one force term; the solvent moves by streaming and collisions only.
+  auto& discs = flow.discs();
+  watchdog::Watched watched;
+  watched.state = {watchdog::Field::of("solvent position", flow.positions()),
+                   watchdog::Field::of("solvent velocity", flow.velocities()),
+                   watchdog::Field::of("disc position", discs.x), watchdog::Field::of("disc velocity", discs.u),
+                   watchdog::Field::of("disc angular velocity", discs.omega)};
+  watched.step = [&] { flow.step(); };
+  watched.steps = [&] { return (long long)flow.steps_done(); };
+  watched.set_steps = [&](long long s) { flow.restore(std::uint64_t(s)); };
+  watched.terms = {{"disc–disc and disc–wall WCA (eq. B.4)", [&] {
+                      discs.clear_accumulators();
+                      mpc::accumulate_disc_wca(flow.wca(), discs);
+                    }}};
+  const auto disc_force = discs.force;
+  watched.first_bad_force = [disc_force] { return first_non_finite(disc_force, "mesoflow::watchdog::term_check"); };
+  watched.max_force = [disc_force] { return max_norm(disc_force, "mesoflow::watchdog::term_max"); };
+  watched.particle = [](long long i) { return "particle/disc " + std::to_string(i); };
+  watchdog::NanWatchdog watch(std::move(watched), par.check_every);
   while (std::int64_t(flow.steps_done()) < total_steps) {
     flow.step();
+    watch.after_step();
     const std::int64_t step = std::int64_t(flow.steps_done());
-    if (step % frame_steps == 0 || step == total_steps) record();
-    if (step % checkpoint_steps == 0 || step == total_steps) checkpoint();
+    const bool frame = step % frame_steps == 0 || step == total_steps;
+    const bool at_checkpoint = step % checkpoint_steps == 0 || step == total_steps;
+    if (frame || at_checkpoint) watch.check();
+    if (frame) record();
+    if (at_checkpoint) checkpoint();
     progress.update(step - first);
   }
   progress.finish();
@@ -325,7 +355,8 @@ int main(int argc, char** argv) {
   app.add_real("--width", f.width, "channel width W/Δx (walls at y = 0 and W)", 0.0, 1e5, Bounds::left_open);
   app.add_real("--radius", f.disc_radius, "disc radius R/Δx", 0.0, 1e4, Bounds::left_open);
   app.add_real("--density", f.density, "solvent particles per cell n", 0.0, 1e4, Bounds::left_open);
-  app.add_real("--dt", f.h, "MPC time step h/τ", 0.0, 10.0, Bounds::left_open);
+  app.add_real("--dt", f.h, "MPC time step h/τ (refused above the discs' stability limit)", 0.0, 10.0, Bounds::left_open);
+  app.add_flag(mesoflow::cli::force_dt_flag, par.force_dt, mesoflow::cli::force_dt_help);
   app.add_real("--body-force", f.body_acceleration, "body acceleration g of the solvent along x, Δx/τ²", -1e3, 1e3);
   app.add_real("--friction", f.friction, "plate friction γ of F = -γ u_d, m/τ", 0.0, 1e9);
   app.add_real("--wca-epsilon", f.wca_epsilon, "WCA energy ε/k_BT (eq. B.4)", 0.0, 1e6);
@@ -337,6 +368,9 @@ int main(int argc, char** argv) {
   app.add_real("--warmup", par.warmup, "time before the measured frames, τ", 0.0, 1e9);
   app.add_real("--time", par.time, "measured time, τ", 0.0, 1e9, Bounds::left_open);
   app.add_real("--frame-interval", par.frame_interval, "time between frames, τ", 0.0, 1e9, Bounds::left_open);
+  app.add_int("--check-every", par.check_every,
+              "steps between NaN-watchdog checks (a non-finite state stops the run, naming particle, term and step)",
+              1, 1000000);
   app.add_real("--checkpoint-interval", par.checkpoint_interval, "time between checkpoints, τ", 0.0, 1e9,
                Bounds::left_open);
   app.add_real("--calibrated-k", par.calibrated_ratio,
@@ -347,6 +381,19 @@ int main(int argc, char** argv) {
   app.add_flag("--restart", par.restart, "continue from <out>.ckpt.h5");
   app.add_flag("--no-plot", par.no_plot, "do not write the PNG plot");
   return app.run(argc, argv, [&] {
+    // WCA contacts of the discs and the solvent's bounce-back (kernels/mpc/stability.hpp).
+    mesoflow::mpc::DiscStiffnessInputs s;
+    s.cell_size = f.cell_size;
+    s.density = f.density;
+    s.mass = f.mass;
+    s.kT = f.kT;
+    s.disc_radius = f.disc_radius;
+    s.body_acceleration = f.body_acceleration;
+    s.wca_epsilon = f.wca_epsilon;
+    s.wca_r0 = f.wca_r0;
+    s.discs = par.discs > 0;
+    const auto limit = mesoflow::mpc::disc_stability(s);
+    mesoflow::cli::check_time_step("crystal", f.h, {limit.max_dt(), limit.limiting_term("τ")}, par.force_dt);
     mesoflow::KokkosScope kokkos(par.threads);
     if (par.precision == "float")
       mesoflow::run<float>(par, app);

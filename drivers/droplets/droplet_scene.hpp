@@ -19,12 +19,15 @@
 #include "kernels/common/surface_force.hpp"
 #include "kernels/common/velocity_verlet.hpp"
 #include "kernels/dp/area_force.hpp"
+#include "kernels/dp/bending_force.hpp"
 #include "kernels/dp/line_tension.hpp"
 #include "kernels/dp/gravity.hpp"
 #include "kernels/dp/near_wall_drag.hpp"
 #include "kernels/dp/polygons.hpp"
 #include "kernels/dp/segment_spring_force.hpp"
 #include "kernels/dp/shape_forces.hpp"
+#include "drivers/common/nan_watchdog.hpp"
+#include "drivers/common/time_step_limit.hpp"
 #include "kernels/dp/stability.hpp"
 #include "kernels/dp/vertex_wall_repulsion.hpp"
 
@@ -42,6 +45,7 @@ struct DropletParameters {
   double line_tension = 0.16;     // Γ = γ/(gρσ²)
   double area_stiffness = 1e4;    // K_a = k_a σ/(gρ)
   double perimeter_stiffness = 1e-4;  // K_l = k_l/(gρσ); the paper keeps K_l/Γ < 10⁻³ (App. B)
+  double bending_stiffness = 0;   // K_b of hopper-flows eq. 8; 0 in the capillary study (no bending term)
   // E_w = ε_w/(gρσ³). The paper's 10⁴ with δ = l0 puts the wall mode at ω ≈ 3·10⁵/t0, far beyond
   // the explicit limit at Δt = 10⁻³ (kernels/dp/stability.hpp); 0.05 keeps it at 6.6·10²/t0 and
   // the overlaps below 1% of δ for the Fig. 2 droplet (docs/droplets.md measures the difference).
@@ -52,6 +56,7 @@ struct DropletParameters {
   double drag_exponent = 4.0 / 3.0;  // α, eq. 6
   double dt = 0;                  // Δt/t0; 0: the paper's 10⁻³, or the stability limit if smaller
   bool drag = true;               // background-fluid drag (eqs. 5–6); off only to check energy conservation
+  bool force_dt = false;          // run a dt above the stability limit (a warning instead of an error)
 
   // Throws std::invalid_argument naming the first parameter outside its range.
   void validate() const {
@@ -65,6 +70,7 @@ struct DropletParameters {
     require(finite_nonnegative(line_tension), "line tension Γ", "finite and >= 0", line_tension);
     require(finite_nonnegative(area_stiffness), "area stiffness K_a", "finite and >= 0", area_stiffness);
     require(finite_nonnegative(perimeter_stiffness), "perimeter stiffness K_l", "finite and >= 0", perimeter_stiffness);
+    require(finite_nonnegative(bending_stiffness), "bending stiffness K_b", "finite and >= 0", bending_stiffness);
     require(finite_nonnegative(wall_energy), "wall energy E_w", "finite and >= 0", wall_energy);
     require(finite_nonnegative(near_wall_drag), "near-wall drag b0/b∞", "finite and >= 0", near_wall_drag);
     require(std::isfinite(terminal_speed) && terminal_speed > 0, "terminal speed V_t", "finite and > 0", terminal_speed);
@@ -97,22 +103,19 @@ inline dp::StabilityLimit droplet_stability(const DropletParameters& par, bool w
   s.line_tension = par.line_tension;
   s.perimeter_stiffness = par.perimeter_stiffness;
   s.area_stiffness = par.area_stiffness;
-  s.bending_stiffness = 0;
+  s.bending_stiffness = par.bending_stiffness;
   const double near = with_surfaces ? par.near_wall_drag * std::pow(1.0 / drag_distance_floor, par.drag_exponent) : 0.0;
   s.max_drag = par.drag ? b_inf * (1 + near) : 0.0;
   return dp::stability_limit(s);
 }
 
 // The time step a scene runs with: par.dt if given (refused above the stability limit, naming the
-// term that sets it), else min(10⁻³ t0, limit).
+// term that sets it, unless par.force_dt), else min(10⁻³ t0, limit).
 inline double resolve_time_step(const DropletParameters& par, bool with_surfaces) {
   const auto limit = droplet_stability(par, with_surfaces);
   const double dt_max = limit.max_dt();
   if (par.dt == 0) return std::min(paper_dt, dt_max);
-  if (par.dt > dt_max)
-    throw std::invalid_argument("droplet scene: time step dt must be <= " + std::to_string(dt_max) +
-                                " for these parameters (stability limit set by " + limit.limiting_term() + "), got " +
-                                std::to_string(par.dt));
+  cli::check_time_step("droplet scene", par.dt, {dt_max, limit.limiting_term()}, par.force_dt);
   return par.dt;
 }
 
@@ -237,6 +240,71 @@ class DropletScene {
     Kokkos::deep_copy(p_.v, v);
   }
 
+  // The NaN watchdog's view of the scene (drivers/common/nan_watchdog.hpp): the state a step reads
+  // (x, v and the forces of the last step, which the first half-step uses), the step counter, and
+  // every force term of step() alone. The scene must outlive the returned value.
+  watchdog::Watched watched() {
+    watchdog::Watched w;
+    w.state = {watchdog::Field::of("position", p_.x), watchdog::Field::of("velocity", p_.v),
+               watchdog::Field::of("force", p_.f)};
+    w.step = [this] { step(); };
+    w.steps = [this] { return steps_; };
+    w.set_steps = [this](long long s) { steps_ = s; };
+    const auto shape_term = [this](auto term) {
+      return [this, term] {
+        p_.zero_forces();
+        dp::update_body_state(polygons_, p_, state_);
+        dp::accumulate_shape_forces(polygons_, state_, p_, term);
+      };
+    };
+    w.terms = {{"area elasticity K_a (eq. 1)", shape_term(dp::AreaElasticity<Real>{Real(par_.area_stiffness)})},
+               {"segment springs K_l (eq. 1)", shape_term(dp::SegmentSprings<Real>{Real(par_.perimeter_stiffness)})},
+               {"line tension Γ (eq. 2)", shape_term(dp::LineTension<Real>{Real(par_.line_tension)})},
+               {"gravity", shape_term(dp::Gravity<Real>{gravity_})}};
+    if (par_.bending_stiffness > 0)
+      w.terms.push_back({"bending K_b (hopper eq. 8)", shape_term(dp::Bending<Real>{Real(par_.bending_stiffness)})});
+    if (has_surfaces())
+      w.terms.push_back({"wall/obstacle repulsion E_w (eq. 3)", [this] {
+                           p_.zero_forces();
+                           with_surfaces([&](const auto& q) { accumulate_surface_forces(q, p_, p_.v, repulsion()); });
+                         }});
+    if (par_.drag)
+      w.terms.push_back({"drag b∞, b0 (eqs. 5–6)", [this] {
+                           p_.zero_forces();
+                           const dp::VertexWallRepulsion<Real> none(Real(0), Real(par_.vertex_diameter * l0_));
+                           with_surfaces([&](const auto& q) { accumulate_surface_forces(q, p_, p_.v, none, drag()); });
+                         },
+                         true});
+    const auto f = p_.f;
+    w.first_bad_force = [f] { return first_non_finite(f, "mesoflow::watchdog::term_check"); };
+    w.max_force = [f] { return max_norm(f, "mesoflow::watchdog::term_max"); };
+    w.particle = [this](long long i) {
+      for (int b = 0; b < polygons_.num_bodies(); ++b)
+        if (i < polygons_.first_vertex(b) + polygons_.num_vertices(b))
+          return "vertex " + std::to_string(i - polygons_.first_vertex(b)) + " of droplet " + std::to_string(b);
+      return "vertex " + std::to_string(i);
+    };
+    return w;
+  }
+
+  // The scene's components, each with what it costs: the terms a step evaluates and the kernels it
+  // launches (run summaries list them; terms with zero coefficients are absent or free).
+  std::vector<std::string> components() const {
+    std::vector<std::string> c{std::to_string(polygons_.num_bodies()) + " droplet(s) of " +
+                                   std::to_string(par_.vertices) + " vertices",
+                               "shape loop (one kernel): area K_a, springs K_l, line tension Γ, gravity" +
+                                   std::string(par_.bending_stiffness > 0 ? ", bending K_b" : "")};
+    if (surfaces_.num_walls() > 0) c.push_back(std::to_string(surfaces_.num_walls()) + " walls");
+    if (surfaces_.obstacles().size() > 0)
+      c.push_back(std::to_string(surfaces_.obstacles().size()) + " obstacles (candidate lists per droplet)");
+    if (has_surfaces())
+      c.push_back(std::string("surface loop (one kernel): repulsion E_w") + (par_.drag ? " + drag b∞" : "") +
+                  (par_.drag && par_.near_wall_drag > 0 ? " with near-wall b0" : ""));
+    else if (par_.drag)
+      c.push_back("drag loop (one kernel): uniform drag b∞");
+    return c;
+  }
+
   const particles_type& particles() const { return p_; }
   const dp::Polygons<Real, ExecSpace>& polygons() const { return polygons_; }
   const DropletParameters& parameters() const { return par_; }
@@ -261,14 +329,19 @@ class DropletScene {
     use(BodySurfaces<Real, ExecSpace>{surfaces_.walls(), surfaces_.num_walls(), *candidates_, polygons_.body});
   }
 
-  // f ← −∇(U_shape + U_gravity); returns that energy.
+  // f ← −∇(U_shape + U_gravity); returns that energy. One fused loop over the vertices; bending
+  // joins it only at K_b > 0 (a compile-time term list, so K_b = 0 costs nothing).
   double shape_forces(bool with_gravity) {
     p_.zero_forces();
     dp::update_body_state(polygons_, p_, state_);
     const Vec<2, Real> g = with_gravity ? gravity_ : Vec<2, Real>::zero();
-    return dp::accumulate_shape_forces(polygons_, state_, p_, dp::AreaElasticity<Real>{Real(par_.area_stiffness)},
-                                       dp::SegmentSprings<Real>{Real(par_.perimeter_stiffness)},
-                                       dp::LineTension<Real>{Real(par_.line_tension)}, dp::Gravity<Real>{g});
+    const dp::AreaElasticity<Real> area{Real(par_.area_stiffness)};
+    const dp::SegmentSprings<Real> springs{Real(par_.perimeter_stiffness)};
+    const dp::LineTension<Real> tension{Real(par_.line_tension)};
+    if (par_.bending_stiffness > 0)
+      return dp::accumulate_shape_forces(polygons_, state_, p_, area, springs, tension,
+                                         dp::Bending<Real>{Real(par_.bending_stiffness)}, dp::Gravity<Real>{g});
+    return dp::accumulate_shape_forces(polygons_, state_, p_, area, springs, tension, dp::Gravity<Real>{g});
   }
 
   dp::VertexWallRepulsion<Real> repulsion() const {

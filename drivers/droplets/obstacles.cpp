@@ -23,7 +23,16 @@
 // attributes, /results/replicas, /results/points, /results/survival), <out>.csv (one row per sweep
 // point), <out>.json (run summary), <out>.ckpt.h5 (finished replicas, replaced atomically as they
 // finish; --restart resumes a killed sweep from it without recomputing them).
+//
+// Under mpirun/srun (docs/scale-out.md) the sweep's work items, (point, replica) pairs in
+// point-major order less those already finished, are dealt round robin to the ranks
+// (drivers/common/ensemble_mpi.hpp); each rank runs its share in batches as above and records what
+// it finishes in its own <out>.rank<r>.ckpt.h5 (replaced atomically). Rank 0 gathers the records,
+// writes the files above and merges the rank checkpoints into <out>.ckpt.h5, then removes them.
+// --restart reads <out>.ckpt.h5 and every <out>.rank<r>.ckpt.h5, whatever the number of ranks now.
+// A replica's record depends only on its seed, so the results do not depend on the number of ranks.
 #include "drivers/common/cli.hpp"
+#include "drivers/common/ensemble_mpi.hpp"
 #include "drivers/common/output_paths.hpp"
 #include "drivers/common/progress.hpp"
 #include "drivers/droplets/clogging_statistics.hpp"
@@ -37,6 +46,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <iomanip>
 #include <iostream>
@@ -66,6 +76,7 @@ struct Parameters {
   double near_wall_drag = 0.0;
   double terminal_speed = 0.08;
   double dt = 0.0;
+  bool force_dt = false;  // --force-dt
   int relax_iterations = 20000;
   long long seed = 1;
   int threads = 0;
@@ -168,6 +179,57 @@ std::vector<FinishedReplica> read_checkpoint(const std::string& path, const std:
     rec.steady_speed = values[5 * k + 4];
   }
   return done;
+}
+
+// The partial checkpoint of MPI rank `rank`: <out>.rank<r>.ckpt.h5 beside <out>.ckpt.h5.
+std::string rank_checkpoint(const std::string& checkpoint, int rank) {
+  const std::string suffix = ".ckpt.h5";
+  return checkpoint.substr(0, checkpoint.size() - suffix.size()) + ".rank" + std::to_string(rank) + suffix;
+}
+
+// The partial checkpoints <out>.rank<r>.ckpt.h5 that exist now, of any number of ranks.
+std::vector<std::string> rank_checkpoints(const std::string& checkpoint) {
+  namespace fs = std::filesystem;
+  const fs::path path(checkpoint);
+  const fs::path dir = path.has_parent_path() ? path.parent_path() : fs::path(".");
+  const std::string name = path.filename().string(), suffix = ".ckpt.h5";
+  const std::string prefix = name.substr(0, name.size() - suffix.size()) + ".rank";
+  std::vector<std::string> found;
+  std::error_code error;
+  for (const fs::directory_entry& e : fs::directory_iterator(dir, error)) {
+    const std::string f = e.path().filename().string();
+    if (f.size() <= prefix.size() + suffix.size() || f.compare(0, prefix.size(), prefix) != 0 ||
+        f.compare(f.size() - suffix.size(), suffix.size(), suffix) != 0)
+      continue;
+    const std::string digits = f.substr(prefix.size(), f.size() - prefix.size() - suffix.size());
+    if (digits.find_first_not_of("0123456789") == std::string::npos) found.push_back((dir / f).string());
+  }
+  std::sort(found.begin(), found.end());
+  return found;
+}
+
+// --restart: the finished replicas of <out>.ckpt.h5 and of the rank checkpoints `partials`, each once.
+std::vector<FinishedReplica> read_finished(const std::string& checkpoint, const std::vector<std::string>& partials,
+                                           const std::string& parameters) {
+  std::vector<FinishedReplica> done = read_checkpoint(checkpoint, parameters);
+  for (const std::string& partial : partials)
+    for (const FinishedReplica& f : read_checkpoint(partial, parameters))
+      if (std::none_of(done.begin(), done.end(),
+                       [&](const FinishedReplica& d) { return d.point == f.point && d.replica == f.replica; }))
+        done.push_back(f);
+  return done;
+}
+
+// The records a rank sends to rank 0, as bytes.
+std::vector<char> to_bytes(const std::vector<FinishedReplica>& records) {
+  static_assert(std::is_trivially_copyable_v<FinishedReplica>);
+  std::vector<char> bytes;
+  for (const FinishedReplica& f : records) ensemble::append_bytes(bytes, f);
+  return bytes;
+}
+
+void append_from_bytes(const std::vector<char>& bytes, std::vector<FinishedReplica>& records) {
+  for (std::size_t offset = 0; offset < bytes.size();) records.push_back(ensemble::read_bytes<FinishedReplica>(bytes, offset));
 }
 
 // Statistics of one sweep point.
@@ -306,9 +368,11 @@ ObstacleEnsembleParameters ensemble_parameters(const Parameters& par, const Swee
   ens.droplet.near_wall_drag = par.near_wall_drag;
   ens.droplet.terminal_speed = par.terminal_speed;
   ens.droplet.dt = par.dt;
+  ens.droplet.force_dt = par.force_dt;
   ens.soft.wall_energy = sp ? point.strength : ens.soft.wall_energy;
   ens.soft.terminal_speed = par.terminal_speed;
   ens.soft.dt = par.dt;
+  ens.soft.force_dt = par.force_dt;
   ens.box_length = par.box_length;
   ens.obstacle_diameter = par.obstacle_diameter;
   ens.obstacle_fraction = par.obstacle_fraction;
@@ -324,34 +388,66 @@ double point_time_step(const ObstacleEnsembleParameters& ens) {
   return ens.model == DropletModel::soft_particle ? resolve_time_step(ens.soft) : resolve_time_step(ens.droplet, true);
 }
 
-void run(const Parameters& par, const cli::DriverApp& app, const std::vector<SweepPoint>& points) {
+void run(const Parameters& par, const cli::DriverApp& app, const std::vector<SweepPoint>& points,
+         const ensemble::Ranks& ranks) {
   const bool sp = par.model == "sp";
+  const bool talk = !app.quiet() && ranks.root();
   const driver::OutputPaths out(app.output());
   const std::string parameters = fingerprint(app);
+  // Every rank reads the same checkpoints before rank 0 merges them into <out>.ckpt.h5 (or, without
+  // --restart, starts it afresh) and removes the rank checkpoints.
+  const std::vector<std::string> partials = rank_checkpoints(out.checkpoint);
   std::vector<FinishedReplica> done;
-  if (par.restart) done = read_checkpoint(out.checkpoint, parameters);
+  if (par.restart) done = read_finished(out.checkpoint, partials, parameters);
   const std::size_t resumed = done.size();
-  if (par.restart && !app.quiet())
-    std::cerr << "obstacles: resumed " << resumed << " finished replicas from " << out.checkpoint << "\n";
-  write_checkpoint(out.checkpoint, parameters, done);
+  if (par.restart && talk)
+    std::cerr << "obstacles: resumed " << resumed << " finished replicas from " << out.checkpoint
+              << (partials.empty() ? "" : " and " + std::to_string(partials.size()) + " rank checkpoints") << "\n";
+  ranks.barrier();
+  if (ranks.root()) {
+    write_checkpoint(out.checkpoint, parameters, done);
+    for (const std::string& f : partials) std::remove(f.c_str());
+  }
+  ranks.barrier();
+
+  // This rank's share of the unfinished (point, replica) items, by point.
+  std::vector<std::vector<int>> todo(points.size());
+  {
+    std::vector<std::pair<int, int>> pending;
+    for (std::size_t p = 0; p < points.size(); ++p)
+      for (int j = 0; j < par.replicas; ++j)
+        if (std::none_of(done.begin(), done.end(),
+                         [&](const FinishedReplica& f) { return f.point == int(p) && f.replica == j; }))
+          pending.emplace_back(int(p), j);
+    for (const std::size_t i : ensemble::shard(pending.size(), ranks.rank(), ranks.size()))
+      todo[std::size_t(pending[i].first)].push_back(pending[i].second);
+  }
+  // One rank keeps everything in <out>.ckpt.h5, as without MPI; a rank of several keeps what it
+  // finishes in its own file.
+  std::vector<FinishedReplica> fresh;
+  const auto record_finished = [&](const FinishedReplica& f) {
+    fresh.push_back(f);
+    if (ranks.size() == 1) {
+      done.push_back(f);
+      write_checkpoint(out.checkpoint, parameters, done);
+    } else {
+      write_checkpoint(rank_checkpoint(out.checkpoint, ranks.rank()), parameters, fresh);
+    }
+  };
 
   const auto t_start = std::chrono::steady_clock::now();
   long long steps_run = 0, vertex_steps = 0;
-  std::size_t computed = 0;
   for (std::size_t p = 0; p < points.size(); ++p) {
     const ObstacleEnsembleParameters ens = ensemble_parameters(par, points[p]);
-    std::vector<int> pending;
-    for (int j = 0; j < par.replicas; ++j)
-      if (std::none_of(done.begin(), done.end(), [&](const FinishedReplica& f) { return f.point == int(p) && f.replica == j; }))
-        pending.push_back(j);
+    const std::vector<int>& pending = todo[p];
     for (std::size_t first = 0; first < pending.size(); first += std::size_t(par.batch)) {
       const std::vector<int> batch(pending.begin() + std::ptrdiff_t(first),
                                    pending.begin() + std::ptrdiff_t(std::min(pending.size(), first + std::size_t(par.batch))));
       std::vector<std::uint64_t> seeds;
       for (const int j : batch) seeds.push_back(replica_seed(std::uint64_t(par.seed), j));
       const long long batch_steps = static_cast<long long>(std::ceil(par.time_limit / point_time_step(ens)));
-      cli::ProgressLine progress(batch_steps, (long long)(batch.size()) * (sp ? 1 : par.vertices), !app.quiet());
-      if (!app.quiet())
+      cli::ProgressLine progress(batch_steps, (long long)(batch.size()) * (sp ? 1 : par.vertices), talk);
+      if (talk)
         std::cerr << "obstacles: point " << p + 1 << "/" << points.size() << " (" << (sp ? "E_w = " : "Gamma = ")
                   << points[p].strength << ", w_ob = " << points[p].gap << "), replicas " << batch.front() << ".."
                   << batch.back() << "\n";
@@ -359,9 +455,7 @@ void run(const Parameters& par, const cli::DriverApp& app, const std::vector<Swe
       run_obstacle_batch<double>(
           ens, seeds,
           [&](int k, const ReplicaRecord& record) {
-            done.push_back({int(p), batch[std::size_t(k)], seeds[std::size_t(k)], record});
-            ++computed;
-            write_checkpoint(out.checkpoint, parameters, done);
+            record_finished({int(p), batch[std::size_t(k)], seeds[std::size_t(k)], record});
           },
           [&](long long steps) {
             last_steps = steps;
@@ -372,7 +466,18 @@ void run(const Parameters& par, const cli::DriverApp& app, const std::vector<Swe
       vertex_steps += last_steps * (long long)(batch.size()) * (sp ? 1 : par.vertices);
     }
   }
+  // Rank 0 gathers every rank's records and writes the outputs; the other ranks are done.
+  const std::size_t computed = std::size_t(ranks.sum((long long)(fresh.size())));
+  steps_run = ranks.sum(steps_run);
+  vertex_steps = ranks.sum(vertex_steps);
+  const std::vector<std::vector<char>> gathered = ranks.gather(to_bytes(fresh));
+  if (!ranks.root()) return;
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
+  if (ranks.size() > 1) {
+    for (std::size_t r = 0; r < gathered.size(); ++r) append_from_bytes(gathered[r], done);
+    write_checkpoint(out.checkpoint, parameters, done);
+    for (int r = 0; r < ranks.size(); ++r) std::remove(rank_checkpoint(out.checkpoint, r).c_str());
+  }
 
   std::sort(done.begin(), done.end(), [](const FinishedReplica& a, const FinishedReplica& b) {
     return a.point != b.point ? a.point < b.point : a.replica < b.replica;
@@ -400,7 +505,8 @@ void run(const Parameters& par, const cli::DriverApp& app, const std::vector<Swe
   const auto json_number = [](double v) { return std::isfinite(v) ? number(v) : std::string("null"); };
   std::ofstream json(out.summary);
   json << "{\n  \"driver\": \"obstacles\",\n  \"model\": \"" << par.model << "\",\n  \"points\": " << points.size()
-       << ",\n  \"replicas_per_point\": " << par.replicas << ",\n  \"replicas_resumed\": " << resumed
+       << ",\n  \"replicas_per_point\": " << par.replicas << ",\n  \"ranks\": " << ranks.size()
+       << ",\n  \"replicas_resumed\": " << resumed
        << ",\n  \"replicas_computed\": " << computed << ",\n  \"steps_run\": " << steps_run
        << ",\n  \"wall_seconds\": " << json_number(wall) << ",\n  \"vertex_steps_per_second\": "
        << json_number(wall > 0 ? double(vertex_steps) / wall : 0.0) << ",\n  \"decay_length\": ["
@@ -426,6 +532,7 @@ void run(const Parameters& par, const cli::DriverApp& app, const std::vector<Swe
 int main(int argc, char** argv) {
   using mesoflow::cli::Bounds;
   mesoflow::droplets::Parameters par;
+  mesoflow::ensemble::Ranks ranks;  // MPI, when launched by mpirun/srun: before Kokkos, ended after it
   mesoflow::cli::DriverApp app(
       "Single droplets through random obstacle arrays (capillary-droplets §4.2-4.3): clogging decay length and "
       "steady speed over ensembles of obstacle arrays, DP or SP model",
@@ -453,11 +560,12 @@ int main(int argc, char** argv) {
   app.add_real("--near-wall-drag", par.near_wall_drag, "DP: near-wall drag b0/b∞ of eq. 6", 0.0, 100.0);
   app.add_real("--terminal-speed", par.terminal_speed, "terminal speed V_t (eq. 15)", 0.0, 10.0, Bounds::left_open);
   app.add_real("--dt", par.dt, "time step Δt/t0 (0: 10⁻³ or the stability limit if smaller)", 0.0, 0.01);
+  app.add_flag(mesoflow::cli::force_dt_flag, par.force_dt, mesoflow::cli::force_dt_help);
   app.add_int("--relax-iterations", par.relax_iterations, "FIRE iterations of the initial relaxation", 0, 10000000);
   app.add_int("--seed", par.seed, "base seed of the replicas' obstacle arrays", 0, 4294967295LL);
   app.add_int("--threads", par.threads, "host threads (0: OMP_NUM_THREADS or all cores)", 0, 4096);
   app.add_flag("--restart", par.restart, "resume a killed sweep from <output>.ckpt.h5 (the same parameters)");
-  return app.run(argc, argv, [&] {
+  return ranks.finish(app.run(argc, argv, [&] {
     const bool sp = par.model == "sp";
     const auto strengths = sp ? mesoflow::droplets::parse_list("--sp-wall-energy", par.sp_wall_energy, 0.001, 1e4)
                               : mesoflow::droplets::parse_list("--line-tension", par.line_tension, 0.001, 100.0);
@@ -475,7 +583,8 @@ int main(int argc, char** argv) {
         ens.soft.validate();
         mesoflow::droplets::point_time_step(ens);
       }
+    ranks.start();
     mesoflow::KokkosScope kokkos(par.threads);
-    mesoflow::droplets::run(par, app, points);
-  });
+    mesoflow::droplets::run(par, app, points, ranks);
+  }));
 }

@@ -75,6 +75,7 @@ inline std::size_t obstacle_count(const ObstacleEnsembleParameters& par) {
 namespace ensemble_detail {
 
 constexpr int sample_steps = 10;    // steps between clog checks (10⁻² t0 at Δt = 10⁻³ t0)
+constexpr long long watchdog_interval = 100;  // steps between NaN-watchdog checks (drivers/common/nan_watchdog.hpp)
 constexpr int report_steps = 1000;  // steps between host reads of the finished count
 
 // Centre of mass and E_k of DP droplet b (BodyState after update_body_state).
@@ -124,8 +125,12 @@ void run_until_finished(const ObstacleEnsembleParameters& par, Scene& scene, int
   std::vector<bool> reported(std::size_t(replicas), false);
   int running = replicas;
   long long step = 0;
+  auto watch = watchdog::watch_if_possible(scene, watchdog_interval);
   while (running > 0) {
-    for (int k = 0; k < sample_steps; ++k) scene.step();
+    for (int k = 0; k < sample_steps; ++k) {
+      scene.step();
+      if (watch) watch->after_step();
+    }
     step += sample_steps;
     detector.observe(scene.time(), step >= limit_steps, state_of());
     if (step % report_steps != 0 && step < limit_steps) continue;

@@ -103,7 +103,10 @@ void run(const Parameters& par, const cli::DriverApp& app) {
        << ",\n  \"max_vg_over_vt_after_orifice\": " << vmax_after << ",\n  \"max_shape_parameter\": " << shape_max
        << ",\n  \"free_area_over_a0\": " << prof.free_area << ",\n  \"max_area_error\": " << prof.max_area_error
        << ",\n  \"wall_seconds\": " << wall << ",\n  \"steps_per_second\": " << (wall > 0 ? prof.steps / wall : 0.0)
-       << ",\n  \"kokkos\": \"" << kokkos_configuration() << "\"\n}\n";
+       << ",\n  \"components\": [";
+  for (std::size_t k = 0; k < prof.components.size(); ++k)
+    json << (k ? ", " : "") << '"' << prof.components[k] << '"';
+  json << "],\n  \"kokkos\": \"" << kokkos_configuration() << "\"\n}\n";
   if (!par.no_plot) {
     const std::string png = out.csv.substr(0, out.csv.size() - 4) + ".png";
     driver::plot_with_matplotlib("orifice", "plot_orifice_profile.py", {out.csv, png}, png, app.quiet());
@@ -132,11 +135,14 @@ int main(int argc, char** argv) {
                Bounds::left_open);
   app.add_int("--vertices", d.vertices, "vertices per droplet N_v", 8, 65536);
   app.add_real("--area-stiffness", d.area_stiffness, "area compressibility K_a", 0.0, 1e9);
+  app.add_real("--bending", d.bending_stiffness, "bending stiffness K_b (hopper-flows eq. 8; 0: no bending term)", 0.0,
+               1e9);
   app.add_real("--perimeter-ratio", par.perimeter_ratio, "perimeter elasticity over line tension K_l/Γ", 0.0, 10.0);
   app.add_real("--wall-energy", d.wall_energy, "wall repulsion E_w (eq. 3)", 0.0, 1e8);
   app.add_real("--vertex-diameter", d.vertex_diameter, "vertex diameter δ/l0 (eq. 3)", 0.0, 10.0, Bounds::left_open);
   app.add_real("--drag-exponent", d.drag_exponent, "near-wall drag exponent α (eq. 6)", 0.0, 10.0, Bounds::left_open);
   app.add_real("--dt", d.dt, "time step Δt/t0 (0: min(1e-3, stability limit))", 0.0, 0.01);
+  app.add_flag(mesoflow::cli::force_dt_flag, d.force_dt, mesoflow::cli::force_dt_help);
   app.add_real("--start-h", par.scene.start_h, "initial distance of the centre of mass from the orifice h/σ", -1000.0,
                -1.0);
   app.add_real("--end-h", par.scene.end_h, "the droplet has passed once h/σ reaches this", 0.0, 100.0, Bounds::left_open);
@@ -146,6 +152,9 @@ int main(int argc, char** argv) {
   app.add_real("--clog-threshold", par.scene.clog_threshold, "clogged once E_k/E_t falls below this (App. C)", 0.0, 1.0,
                Bounds::open);
   app.add_positive("--frame-every", par.frame_every, "profile samples between trajectory frames");
+  app.add_int("--check-every", par.scene.check_interval,
+              "steps between NaN-watchdog checks (a non-finite state stops the run, naming particle, term and step)",
+              1, 1000000);
   app.add_int("--threads", par.threads, "host threads (0: OMP_NUM_THREADS or all cores)", 0, 4096);
   app.add_flag("--no-plot", par.no_plot, "do not write the PNG plot");
   return app.run(argc, argv, [&] {

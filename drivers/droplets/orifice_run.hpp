@@ -30,6 +30,7 @@ struct OrificeScene {
   double max_time = 2000;          // t/t0 limit
   double sample_interval = 0.05;   // t0 between profile samples
   double clog_threshold = 1e-17;   // E_k/E_t below which the droplet is clogged (Appendix C)
+  long long check_interval = 100;  // steps between NaN-watchdog checks (drivers/common/nan_watchdog.hpp)
 
   void validate() const {
     droplet.validate();
@@ -43,6 +44,8 @@ struct OrificeScene {
     require(std::isfinite(end_h) && end_h > 0 && end_h <= 100, "end height end_h", "in (0, 100]", end_h);
     require(std::isfinite(max_time) && max_time > 0, "time limit max_time", "finite and > 0", max_time);
     require(std::isfinite(sample_interval) && sample_interval > 0, "sample interval", "finite and > 0", sample_interval);
+    require(check_interval >= 1 && check_interval <= 1000000, "watchdog interval check_interval", "in [1, 10^6] steps",
+            double(check_interval));
     require(std::isfinite(clog_threshold) && clog_threshold > 0 && clog_threshold < 1, "clog threshold E_k/E_t",
             "in (0, 1)", clog_threshold);
   }
@@ -66,24 +69,28 @@ struct OrificeProfile {
   double max_area_error = 0;     // max |a/a_eq − 1| after contact, a_eq the area of the free droplet
   double free_area = 0;          // a_eq/a0: the droplet's area before contact (line tension compresses it)
   long long steps = 0;
+  std::vector<std::string> components;  // DropletScene::components(): what each step evaluates
 };
 
-inline Surfaces<double, Kokkos::DefaultExecutionSpace> orifice_surfaces(double width) {
-  const auto wedges = orifice_wedges<double>(width, 0.0, 0.0);
-  return Surfaces<double, Kokkos::DefaultExecutionSpace>(std::vector<Shape<2, double>>{wedges[0], wedges[1]});
+template <class Real = double>
+Surfaces<Real, Kokkos::DefaultExecutionSpace> orifice_surfaces(double width) {
+  const auto wedges = orifice_wedges<Real>(Real(width), Real(0), Real(0));
+  return Surfaces<Real, Kokkos::DefaultExecutionSpace>(std::vector<Shape<2, Real>>{wedges[0], wedges[1]});
 }
 
-// Runs one passage. `on_sample(scene, profile)` is called after every sample is appended (the
-// driver writes frames from it); pass [](auto&, auto&) {} when none is wanted.
-template <class OnSample>
+// Runs one passage in precision Real (the drivers use double; perf/tradeoff compares float).
+// `on_sample(scene, profile)` is called after every sample is appended (the driver writes frames
+// from it); pass [](auto&, auto&) {} when none is wanted.
+template <class Real = double, class OnSample>
 OrificeProfile run_orifice(const OrificeScene& setup, OnSample&& on_sample) {
   using Exec = Kokkos::DefaultExecutionSpace;
   setup.validate();
-  DropletScene<double, Exec> scene(setup.droplet, orifice_surfaces(setup.width),
-                                   {Vec<2, double>{{0.0, -setup.start_h}}});
+  DropletScene<Real, Exec> scene(setup.droplet, orifice_surfaces<Real>(setup.width),
+                                 {Vec<2, double>{{0.0, -setup.start_h}}});
   scene.relax();
   OrificeProfile prof;
   prof.dt = scene.dt();
+  prof.components = scene.components();
   const double vt = setup.droplet.terminal_speed;
   const double terminal_energy = 0.5 * droplet_mass * vt * vt;  // E_t
   const long long sample_every = std::max(1LL, std::llround(setup.sample_interval / scene.dt()));
@@ -110,10 +117,12 @@ OrificeProfile run_orifice(const OrificeScene& setup, OnSample&& on_sample) {
     return ek;
   };
 
+  watchdog::NanWatchdog watch(scene.watched(), setup.check_interval);
   sample();
   constexpr long long clog_check_every = 10;  // steps; E_k decays at ~2b∞/M per t0, so 10 steps lose nothing
   while (scene.steps() < max_steps) {
     scene.step();
+    watch.after_step();
     const bool at_sample = scene.steps() % sample_every == 0;
     const bool at_check = at_sample || scene.steps() % clog_check_every == 0;
     const double ek = at_check ? kinetic_energy(scene.particles()) / terminal_energy : 1.0;
@@ -123,6 +132,7 @@ OrificeProfile run_orifice(const OrificeScene& setup, OnSample&& on_sample) {
       break;
     }
     if (at_sample) {
+      watch.check();  // no sample is taken from a non-finite state
       sample();
       if (prof.h.back() >= setup.end_h) {
         prof.outcome = OrificeOutcome::passed;

@@ -18,6 +18,7 @@
 // reaches App. C's clogging threshold. Obstacles only: the scene refuses walls.
 #pragma once
 
+#include "drivers/common/nan_watchdog.hpp"
 #include "drivers/droplets/droplet_scene.hpp"
 #include "kernels/common/fire.hpp"
 #include "kernels/common/obstacle_array.hpp"
@@ -39,6 +40,7 @@ struct SoftParticleParameters {
   double terminal_speed = 0.08;  // V_t = Mg/(b∞√(σg)), eq. 15
   double dt = 0;                 // Δt/t0; 0: the paper's 10⁻³, or the stability limit if smaller
   double gravity_angle = -90.0;  // direction of g in degrees from +x
+  bool force_dt = false;         // run a dt above the stability limit (a warning instead of an error)
 
   void validate() const {
     auto require = [](bool ok, const char* name, const char* range, double value) {
@@ -56,19 +58,21 @@ struct SoftParticleParameters {
 
 // The explicit limit of an SP droplet, in the form of kernels/dp/stability.hpp (Δt ≤ 1/ω and
 // Δt ≤ 1/ν): the contact of eq. 8 has stiffness 4ε_w/σ², so ω = √(4E_w/M); the drag rate is
-// ν = b∞/M = 1/V_t.
-inline double soft_particle_max_dt(const SoftParticleParameters& par) {
+// ν = b∞/M = 1/V_t. The term is the one that sets the limit, for error messages.
+inline cli::TimeStepLimit soft_particle_limit(const SoftParticleParameters& par) {
   const double omega = std::sqrt(4.0 * par.wall_energy / droplet_mass);
   const double by_contact = omega > 0 ? 1.0 / omega : HUGE_VAL;
-  return std::min(by_contact, par.terminal_speed);
+  if (by_contact < par.terminal_speed)
+    return {by_contact, "wall repulsion E_w (ω = " + std::to_string(omega) + "/t0)"};
+  return {par.terminal_speed, "drag b∞ (rate 1/V_t = " + std::to_string(1 / par.terminal_speed) + "/t0)"};
 }
 
+inline double soft_particle_max_dt(const SoftParticleParameters& par) { return soft_particle_limit(par).max_dt; }
+
 inline double resolve_time_step(const SoftParticleParameters& par) {
-  const double dt_max = soft_particle_max_dt(par);
-  if (par.dt == 0) return std::min(paper_dt, dt_max);
-  if (par.dt > dt_max)
-    throw std::invalid_argument("soft-particle scene: time step dt must be <= " + std::to_string(dt_max) +
-                                " for these parameters, got " + std::to_string(par.dt));
+  const auto limit = soft_particle_limit(par);
+  if (par.dt == 0) return std::min(paper_dt, limit.max_dt);
+  cli::check_time_step("soft-particle scene", par.dt, limit, par.force_dt);
   return par.dt;
 }
 
@@ -150,6 +154,35 @@ class SoftParticleScene {
     }
     Kokkos::deep_copy(p_.x, x);
     Kokkos::deep_copy(p_.v, v);
+  }
+
+  // The NaN watchdog's view of the scene (drivers/common/nan_watchdog.hpp): x, v, f and the step
+  // counter; gravity, eq. 8's repulsion and eq. 10's drag alone. The scene must outlive it.
+  watchdog::Watched watched() {
+    watchdog::Watched w;
+    w.state = {watchdog::Field::of("position", p_.x), watchdog::Field::of("velocity", p_.v),
+               watchdog::Field::of("force", p_.f)};
+    w.step = [this] { step(); };
+    w.steps = [this] { return steps_; };
+    w.set_steps = [this](long long s) { steps_ = s; };
+    w.terms = {{"gravity", [this] { gravity_forces(true); }},
+               {"obstacle repulsion E_sp (eq. 8)", [this] {
+                  p_.zero_forces();
+                  obstacle_forces(p_.v, Real(0));
+                }},
+               {"drag b∞ (eq. 10)",
+                [this] {
+                  p_.zero_forces();
+                  accumulate_surface_forces(ParticleArraySurfaces<Real, ExecSpace>{surfaces_, array_}, p_, p_.v,
+                                            sp::ObstacleRepulsion<Real>(Real(0), Real(1)),
+                                            sp::ViscousDrag<Real>(Real(b_inf_)));
+                },
+                true}};
+    const auto f = p_.f;
+    w.first_bad_force = [f] { return first_non_finite(f, "mesoflow::watchdog::term_check"); };
+    w.max_force = [f] { return max_norm(f, "mesoflow::watchdog::term_max"); };
+    w.particle = [](long long i) { return "droplet " + std::to_string(i); };
+    return w;
   }
 
   const particles_type& particles() const { return p_; }

@@ -66,6 +66,7 @@
 #include "kernels/dp/segment_spring_force.hpp"
 #include "kernels/dp/shape_forces.hpp"
 #include "kernels/dp/smooth_vertex_contacts.hpp"
+#include "drivers/common/time_step_limit.hpp"
 #include "kernels/dp/stability.hpp"
 #include "kernels/dp/vertex_contacts.hpp"
 #include "kernels/dp/vertex_drag.hpp"
@@ -136,6 +137,7 @@ struct DpHopperParameters {
   bool smooth = false;               // false: rough vertex disks δ = l0; true: circulo-lines δ = 0.1 l0
   double dt = dp_paper_dt;           // Δt/t0; 0: min(10⁻³, 0.9 × limit)
   unsigned long long seed = 1;
+  bool force_dt = false;             // run a dt above the stability limit (a warning instead of an error)
 
   // σ_m, a_m,0, l_m,0 and δ_m of a particle type (0 small, 1 large).
   static double diameter(int type) { return type == 0 ? sigma_small : sigma_large; }
@@ -197,10 +199,7 @@ struct DpHopperParameters {
             friction);
     require(std::isfinite(dt) && dt >= 0, "time step dt", "finite and >= 0 (0: automatic)", dt);
     const auto limit = stability();
-    if (dt > limit.max_dt())
-      throw std::invalid_argument("dp hopper scene: time step dt must be <= " + std::to_string(limit.max_dt()) +
-                                  " (stability limit set by " + limit.limiting_term() + "), got " +
-                                  std::to_string(dt));
+    cli::check_time_step("dp hopper scene", dt, {limit.max_dt(), limit.limiting_term()}, force_dt);
   }
 };
 

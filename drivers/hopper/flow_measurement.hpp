@@ -13,10 +13,15 @@
 // second half.
 #pragma once
 
+#include "drivers/common/nan_watchdog.hpp"
+
 #include <cmath>
 #include <functional>
+#include <optional>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 namespace mesoflow::hopper {
@@ -27,6 +32,7 @@ struct FlowSettings {
   int measure_windows = 12;  // windows averaged once steady
   double clog_time = 20.0;   // t0 without a crossing → clogged
   double max_time = 2000.0;  // t0
+  long long check_interval = 100;  // steps between NaN-watchdog checks (drivers/common/nan_watchdog.hpp)
 
   void validate() const {
     auto require = [](bool ok, const std::string& name, const std::string& range, double value) {
@@ -39,6 +45,8 @@ struct FlowSettings {
     require(measure_windows >= 4, "measure windows", ">= 4", measure_windows);
     require(std::isfinite(clog_time) && clog_time >= window, "clog time", ">= window", clog_time);
     require(std::isfinite(max_time) && max_time > window, "max time", "> window", max_time);
+    require(check_interval >= 1 && check_interval <= 1000000, "watchdog interval", "in [1, 10^6] steps",
+            double(check_interval));
   }
 };
 
@@ -86,8 +94,12 @@ FlowResult measure_flow_rate(Scene& scene, const FlowSettings& s,
   FlowResult r;
   double crossed = scene.crossed_measure();
   int measure_from = -1;
+  auto watch = watchdog::watch_if_possible(scene, s.check_interval);
   while (scene.time() < s.max_time) {
-    for (long long k = 0; k < steps_per_window; ++k) scene.step();
+    for (long long k = 0; k < steps_per_window; ++k) {
+      scene.step();
+      if (watch) watch->after_step();
+    }
     const double q = (scene.crossed_measure() - crossed) / window;
     crossed = scene.crossed_measure();
     r.window_rates.push_back(q);

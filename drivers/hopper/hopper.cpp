@@ -33,7 +33,14 @@
 // --vary NAME --values v1,…: one such sweep per value, each with outputs <out>_<NAME><v>.*, then
 // <out>_vary.csv (v, λ = ζ/μ, C, k, β with errors) and <out>_vary.json (the sigmoid β(λ) of eq. 14
 // when drag or friction varies and ≥ 3 fits have 0 < λ < ∞).
+//
+// Under mpirun/srun (docs/scale-out.md) the work items, (--vary value, width) pairs, are dealt round
+// robin to the ranks (drivers/common/ensemble_mpi.hpp); a width's run depends only on its parameters
+// and index (seed + k), not on the rank that runs it. Rank 0 gathers the runs and writes every
+// output above, the same files as one process writes; the other ranks write nothing. A killed
+// hopper sweep is run again from the start.
 #include "drivers/common/cli.hpp"
+#include "drivers/common/ensemble_mpi.hpp"
 #include "drivers/common/output_paths.hpp"
 #include "drivers/hopper/flow_measurement.hpp"
 #include "drivers/hopper/flow_rate_fits.hpp"
@@ -63,6 +70,63 @@ struct WidthMeasurement {
   int samples = 0;
 };
 
+// One width's run, as rank 0 writes it: the flow result, the rate of every window (the
+// window_flow_rate observable), the window-averaged profiles and the scene's counters at the end.
+struct WidthRun {
+  struct Scalars {  // the fixed-size part, sent as bytes
+    double Q = 0, Q_error = 0;
+    bool clogged = false, steady = false;
+    double steady_time = 0, result_end_time = 0;
+    long long steps = 0;  // at the end of the run (the profile frames' step)
+    double time = 0;      // t/t0 at the end
+    double rho_n = NAN, Q_corrected = NAN;
+    long long insertions = 0;
+    double max_insertion_overlap = 0;
+    double seconds = 0;  // wall time of this width's run
+    std::size_t windows = 0;
+  } scalars;
+  WidthMeasurement measured;
+  struct Window {
+    std::int64_t step;
+    double time, q;
+  };
+  std::vector<Window> windows;
+
+  // The result without its window rates (they are in `windows`).
+  hopper::FlowResult result() const {
+    hopper::FlowResult r;
+    r.Q = scalars.Q;
+    r.Q_error = scalars.Q_error;
+    r.clogged = scalars.clogged;
+    r.steady = scalars.steady;
+    r.steady_time = scalars.steady_time;
+    r.end_time = scalars.result_end_time;
+    return r;
+  }
+};
+
+void append_bytes(std::vector<char>& out, std::size_t item, const WidthRun& run) {
+  ensemble::append_bytes(out, item);
+  WidthRun::Scalars s = run.scalars;
+  s.windows = run.windows.size();
+  ensemble::append_bytes(out, s);
+  ensemble::append_bytes(out, run.measured);
+  for (const WidthRun::Window& w : run.windows) ensemble::append_bytes(out, w);
+}
+
+// Reads the width runs of one rank's bytes into runs[item].
+void read_runs(const std::vector<char>& bytes, std::vector<WidthRun>& runs) {
+  for (std::size_t offset = 0; offset < bytes.size();) {
+    const auto k = ensemble::read_bytes<std::size_t>(bytes, offset);
+    if (k >= runs.size()) throw std::runtime_error("hopper: a rank sent work item " + std::to_string(k));
+    WidthRun& run = runs[k];
+    run.scalars = ensemble::read_bytes<WidthRun::Scalars>(bytes, offset);
+    run.measured = ensemble::read_bytes<WidthMeasurement>(bytes, offset);
+    run.windows.resize(run.scalars.windows);
+    for (WidthRun::Window& w : run.windows) w = ensemble::read_bytes<WidthRun::Window>(bytes, offset);
+  }
+}
+
 struct Parameters {
   std::string vary;    // empty, or the parameter swept in an outer loop (--vary)
   std::string values;  // its values (--values)
@@ -75,6 +139,18 @@ struct Parameters {
   std::string dimension = "2";
   int threads = 0;
   bool no_plot = false;
+};
+
+// One w sweep: its parameters (with the --vary value set), output path and console label ("--drag
+// 0.3" with --vary, else empty); SweepSpec the same with the scene's parameters.
+struct SweepRequest {
+  Parameters parameters;
+  std::string output, label;
+};
+template <class SceneParameters>
+struct SweepSpec {
+  SceneParameters base;
+  std::string output, label;
 };
 
 // --widths: each in (0, W).
@@ -98,29 +174,38 @@ void validate(const hopper::DpHopperParameters& p, int) { p.validate(); }
 // Scene: HopperScene<D> (SP) or DpHopperScene (DP, D = 2); `bodies` = updates per particle-step
 // reported (1 for SP, N_v vertices per polygon for DP).
 template <class Scene, int D, class SceneParameters>
-std::optional<hopper::BeverlooFit> run(const SceneParameters& scene_base, const Parameters& par,
-                                       const cli::DriverApp& app, int bodies, const std::string& output) {
+std::optional<hopper::BeverlooFit> write_sweep(const SweepSpec<SceneParameters>& sweep, const std::vector<double>& widths,
+                                               const std::vector<WidthRun>& runs, const Parameters& par,
+                                               const cli::DriverApp& app, const ensemble::Ranks& ranks, int bodies);
+
+// The w sweeps `sweeps` (one, or one per --vary value): the work items (sweep, width) are shared
+// among the ranks; rank 0 writes every sweep's outputs and returns their fits (the other ranks: none).
+template <class Scene, int D, class SceneParameters>
+std::vector<std::optional<hopper::BeverlooFit>> run(const std::vector<SweepSpec<SceneParameters>>& sweeps,
+                                                    const Parameters& par, const cli::DriverApp& app,
+                                                    const ensemble::Ranks& ranks, int bodies) {
   constexpr bool soft_particles = std::is_same_v<SceneParameters, hopper::HopperParameters>;
-  const driver::OutputPaths out(output);
-  const auto widths = parse_widths(par.widths, scene_base.hopper_width);
-  for (std::size_t k = 0; k < widths.size(); ++k) validate(at_width(scene_base, widths[k], k), D);  // before any output
+  std::vector<std::vector<double>> widths;
+  for (const SweepSpec<SceneParameters>& sweep : sweeps) {
+    widths.push_back(parse_widths(par.widths, sweep.base.hopper_width));
+    for (std::size_t k = 0; k < widths.back().size(); ++k)
+      validate(at_width(sweep.base, widths.back()[k], k), D);  // before any output
+  }
   par.flow.validate();
-  std::optional<io::H5mdWriter> h5;
-  h5.emplace(out.trajectory, "mesoflow", MESOFLOW_VERSION, "mesoflow hopper");
-  for (const auto& [key, value] : app.resolved_parameters()) h5->set_parameter(key, value);
-  std::vector<hopper::FlowResult> results;
-  std::vector<WidthMeasurement> measured(widths.size());
-  std::vector<double> corrected, densities;
-  const auto wall_start = std::chrono::steady_clock::now();
-  long long steps = 0;
-  for (std::size_t k = 0; k < widths.size(); ++k) {
-    Scene scene(at_width(scene_base, widths[k], k));
+  const std::size_t n_widths = widths.front().size();
+  // This rank's items, item = sweep × n_widths + width; every rank reports its own as they finish.
+  std::vector<char> sent;
+  for (const std::size_t item : ensemble::shard(sweeps.size() * n_widths, ranks.rank(), ranks.size())) {
+    const std::size_t k = item % n_widths;
+    const SweepSpec<SceneParameters>& sweep = sweeps[item / n_widths];
+    const auto width_start = std::chrono::steady_clock::now();
+    Scene scene(at_width(sweep.base, widths[item / n_widths][k], k));
     scene.relax();
-    const std::string name = "window_flow_rate_" + std::to_string(k);
-    WidthMeasurement& m = measured[k];
+    WidthRun run;
+    WidthMeasurement& m = run.measured;
     const auto r = hopper::measure_flow_rate<Scene>(
         scene, par.flow, [&](const Scene& s, double q, bool measuring) {
-          h5->append_observable(name, s.steps(), s.time(), q);
+          run.windows.push_back({std::int64_t(s.steps()), s.time(), q});
           if (!measuring) return;
           const auto prof = gaussian_axis_profile<profile_points>(s.particles(), 0.0, profile_dh, 1.0);
           for (int j = 0; j < profile_points; ++j) {
@@ -130,41 +215,93 @@ std::optional<hopper::BeverlooFit> run(const SceneParameters& scene_base, const 
           if constexpr (soft_particles) m.orifice_count += s.orifice_region_count();
           ++m.samples;
         });
-    const std::string suffix = "_" + std::to_string(k);
     if (m.samples > 0) {
       for (int j = 0; j < profile_points; ++j) {
         m.n[j] /= m.samples;
         m.vg_sum[j] /= m.samples;
       }
       m.orifice_count /= m.samples;
-      h5->append_observable("profile_number_density" + suffix, scene.steps(), scene.time(), m.n.data(), m.n.size());
-      h5->append_observable("profile_vg" + suffix, scene.steps(), scene.time(), m.vg_sum.data(), m.vg_sum.size());
     }
-    double rho_n = NAN, Q_corrected = NAN;
+    WidthRun::Scalars& v = run.scalars;
     if constexpr (soft_particles) {
-      rho_n = m.orifice_count / scene.orifice_region_measure();
-      if (rho_n > 0) Q_corrected = hopper::corrected_flow_rate(r.Q, rho_n, Scene::mean_particle_measure());
-      h5->set_parameter("Q_corrected" + suffix, Q_corrected);
+      v.rho_n = m.orifice_count / scene.orifice_region_measure();
+      if (v.rho_n > 0) v.Q_corrected = hopper::corrected_flow_rate(r.Q, v.rho_n, Scene::mean_particle_measure());
     }
-    corrected.push_back(Q_corrected);
-    densities.push_back(rho_n);
-    h5->set_parameter("w" + suffix, widths[k]);
-    h5->set_parameter("Q" + suffix, r.Q);
-    h5->set_parameter("Q_error" + suffix, r.Q_error);
-    h5->set_parameter("clogged" + suffix, r.clogged);
-    h5->set_parameter("steady" + suffix, r.steady);
-    h5->set_parameter("insertions" + suffix, scene.insertions());
-    h5->set_parameter("max_insertion_overlap" + suffix, scene.max_insertion_overlap());
-    steps += scene.steps();
-    results.push_back(r);
+    v.Q = r.Q;
+    v.Q_error = r.Q_error;
+    v.clogged = r.clogged;
+    v.steady = r.steady;
+    v.steady_time = r.steady_time;
+    v.result_end_time = r.end_time;
+    v.steps = scene.steps();
+    v.time = scene.time();
+    v.insertions = scene.insertions();
+    v.max_insertion_overlap = scene.max_insertion_overlap();
+    v.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - width_start).count();
+    append_bytes(sent, item, run);
     if (!app.quiet())
-      std::cout << "hopper: w = " << widths[k] << ": "
+      std::cout << "hopper: " << (sweep.label.empty() ? "" : sweep.label + ", ") << "w = " << widths[item / n_widths][k]
+                << ": "
                 << (r.clogged ? std::string("clogged at t = ") + std::to_string(r.end_time)
                               : "Q = " + std::to_string(r.Q) + " ± " + std::to_string(r.Q_error) +
                                     (r.steady ? "" : " (no steady state by --max-time)"))
                 << " (" << scene.steps() << " steps, " << scene.insertions() << " re-insertions)\n";
   }
-  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+  // Rank 0 gathers every width's run and writes the outputs; the other ranks are done.
+  const std::vector<std::vector<char>> gathered = ranks.gather(sent);
+  if (!ranks.root()) return {};
+  std::vector<WidthRun> runs(sweeps.size() * n_widths);
+  for (const std::vector<char>& bytes : gathered) read_runs(bytes, runs);
+  std::vector<std::optional<hopper::BeverlooFit>> fits;
+  for (std::size_t s = 0; s < sweeps.size(); ++s)
+    fits.push_back(write_sweep<Scene, D>(
+        sweeps[s], widths[s],
+        std::vector<WidthRun>(runs.begin() + std::ptrdiff_t(s * n_widths), runs.begin() + std::ptrdiff_t((s + 1) * n_widths)),
+        par, app, ranks, bodies));
+  return fits;
+}
+
+// Rank 0: the outputs of one w sweep from its widths' runs. wall_seconds in the JSON is the sum of
+// the widths' run times (the sweep's wall time on one rank), so the rate is per rank.
+template <class Scene, int D, class SceneParameters>
+std::optional<hopper::BeverlooFit> write_sweep(const SweepSpec<SceneParameters>& sweep, const std::vector<double>& widths,
+                                               const std::vector<WidthRun>& runs, const Parameters& par,
+                                               const cli::DriverApp& app, const ensemble::Ranks& ranks, int bodies) {
+  constexpr bool soft_particles = std::is_same_v<SceneParameters, hopper::HopperParameters>;
+  const driver::OutputPaths out(sweep.output);
+  double wall = 0;
+  for (const WidthRun& run : runs) wall += run.scalars.seconds;
+  std::optional<io::H5mdWriter> h5;
+  h5.emplace(out.trajectory, "mesoflow", MESOFLOW_VERSION, "mesoflow hopper");
+  for (const auto& [key, value] : app.resolved_parameters()) h5->set_parameter(key, value);
+  std::vector<hopper::FlowResult> results;
+  std::vector<WidthMeasurement> measured(widths.size());
+  std::vector<double> corrected, densities;
+  long long steps = 0;
+  for (std::size_t k = 0; k < widths.size(); ++k) {
+    const WidthRun& run = runs[k];
+    const WidthRun::Scalars& v = run.scalars;
+    const std::string name = "window_flow_rate_" + std::to_string(k);
+    for (const WidthRun::Window& w : run.windows) h5->append_observable(name, w.step, w.time, w.q);
+    const std::string suffix = "_" + std::to_string(k);
+    const WidthMeasurement& m = measured[k] = run.measured;
+    if (m.samples > 0) {
+      h5->append_observable("profile_number_density" + suffix, v.steps, v.time, m.n.data(), m.n.size());
+      h5->append_observable("profile_vg" + suffix, v.steps, v.time, m.vg_sum.data(), m.vg_sum.size());
+    }
+    if constexpr (soft_particles) h5->set_parameter("Q_corrected" + suffix, v.Q_corrected);
+    corrected.push_back(v.Q_corrected);
+    densities.push_back(v.rho_n);
+    h5->set_parameter("w" + suffix, widths[k]);
+    h5->set_parameter("Q" + suffix, v.Q);
+    h5->set_parameter("Q_error" + suffix, v.Q_error);
+    h5->set_parameter("clogged" + suffix, v.clogged);
+    h5->set_parameter("steady" + suffix, v.steady);
+    h5->set_parameter("insertions" + suffix, v.insertions);
+    h5->set_parameter("max_insertion_overlap" + suffix, v.max_insertion_overlap);
+    steps += v.steps;
+    results.push_back(run.result());
+  }
   h5.reset();
 
   std::ofstream csv(out.csv);
@@ -219,8 +356,8 @@ std::optional<hopper::BeverlooFit> run(const SceneParameters& scene_base, const 
   } else {
     json << "  \"beverloo\": null,\n";
   }
-  json << "  \"steps\": " << steps << ",\n  \"wall_seconds\": " << wall << ",\n  \"" << (soft_particles ? "particle" : "vertex") << "_steps_per_second\": "
-       << (wall > 0 ? double(steps) * scene_base.particles * bodies / wall : 0.0) << ",\n  \"kokkos\": \""
+  json << "  \"ranks\": " << ranks.size() << ",\n  \"steps\": " << steps << ",\n  \"wall_seconds\": " << wall << ",\n  \"" << (soft_particles ? "particle" : "vertex") << "_steps_per_second\": "
+       << (wall > 0 ? double(steps) * sweep.base.particles * bodies / wall : 0.0) << ",\n  \"kokkos\": \""
        << kokkos_configuration() << "\"\n}\n";
   json.close();
   if (!par.no_plot) {
@@ -229,6 +366,7 @@ std::optional<hopper::BeverlooFit> run(const SceneParameters& scene_base, const 
     if (fit) args.insert(args.end(), {"--fit", base + "_fit.csv"});
     driver::plot_with_matplotlib("hopper", "plot_hopper.py", args, png, app.quiet());
   }
+  if (!app.quiet() && !sweep.label.empty()) std::cout << "hopper: " << sweep.label << "\n";
   if (!app.quiet() && fit)
     std::cout << "hopper: Beverloo fit over " << x.size() << " widths: C = " << fit->C << " ± " << fit->C_error
               << ", k = " << fit->k << " ± " << fit->k_error << ", β = " << fit->beta << " ± " << fit->beta_error << "\n";
@@ -256,21 +394,24 @@ void set_varied(Parameters& par, double v) {
 // Beverloo parameters against the value and λ = ζ/μ, and, when drag or friction is varied and at
 // least 3 sweeps have a fit with 0 < λ < ∞, the sigmoid β(λ) of eq. 14 (<out>_vary.json).
 template <class Sweep>
-void run_varied(Parameters par, const cli::DriverApp& app, int dimension, const Sweep& sweep) {
+void run_varied(Parameters par, const cli::DriverApp& app, const ensemble::Ranks& ranks, int dimension,
+                const Sweep& sweep) {
   const bool dissipation = par.vary == "drag" || par.vary == "friction";
   const auto values = parse_values(par.values, dissipation);
   const driver::OutputPaths out(app.output());
   const std::string stem = out.csv.substr(0, out.csv.size() - 4);
-  std::vector<std::optional<hopper::BeverlooFit>> fits;
+  std::vector<SweepRequest> sweeps;
   std::vector<double> lambdas;
   for (const double v : values) {
     set_varied(par, v);
-    std::ostringstream name;
+    std::ostringstream name, label;
     name << stem << '_' << par.vary << v << ".h5";
-    if (!app.quiet()) std::cout << "hopper: --" << par.vary << " " << v << "\n";
-    fits.push_back(sweep(par, name.str()));
+    label << "--" << par.vary << " " << v;
+    sweeps.push_back({par, name.str(), label.str()});
     lambdas.push_back(par.scene.friction > 0 ? par.scene.drag / par.scene.friction : HUGE_VAL);
   }
+  const std::vector<std::optional<hopper::BeverlooFit>> fits = sweep(sweeps);
+  if (!ranks.root()) return;  // rank 0 has every sweep's fit
   std::ofstream csv(stem + "_vary.csv");
   csv << std::setprecision(10) << par.vary << ",lambda,C,C_error,k,k_error,beta,beta_error,chi2_per_dof\n";
   std::vector<double> x, beta, beta_error;
@@ -310,6 +451,7 @@ void run_varied(Parameters par, const cli::DriverApp& app, int dimension, const 
 int main(int argc, char** argv) {
   using mesoflow::cli::Bounds;
   mesoflow::Parameters par;
+  mesoflow::ensemble::Ranks ranks;  // MPI, when launched by mpirun/srun: before Kokkos, ended after it
   auto& s = par.scene;
   auto& d = par.dp;
   auto& f = par.flow;
@@ -328,6 +470,7 @@ int main(int argc, char** argv) {
   app.add_real("--friction", s.friction, "kinetic friction μ/μ0 (eq. 6; dp: eq. 12, rough contacts only)", 0.0, 1e4);
   app.add_real("--dt", par.dt, "time step Δt/t0; 0: min(1e-3, 0.9 × stability limit); larger than the limit is refused",
                0.0, 0.01);
+  app.add_flag(mesoflow::cli::force_dt_flag, s.force_dt, mesoflow::cli::force_dt_help);
   app.add_int("--seed", s.seed, "random seed of width 0 (width k uses seed + k)", 0, 1LL << 62);
   app.add_real("--pair-energy", s.pair_energy, "sp: pair repulsion E_sp (eq. 2)", 0.0, 1e8, Bounds::left_open);
   app.add_real("--wall-energy", s.wall_energy, "sp: wall repulsion E_w (eq. 3)", 0.0, 1e8, Bounds::left_open);
@@ -347,12 +490,14 @@ int main(int argc, char** argv) {
   app.add_real("--window", f.window, "rate window /t0", 0.0, 1e4, Bounds::left_open);
   app.add_int("--steady-windows", f.steady_windows, "windows M compared for the steady-state test", 2, 1000);
   app.add_int("--measure-windows", f.measure_windows, "windows averaged once steady", 4, 100000);
+  app.add_int("--check-every", f.check_interval,
+              "sp: steps between NaN-watchdog checks (a non-finite state stops the run, naming particle, term and step)",
+              1, 1000000);
   app.add_real("--clog-time", f.clog_time, "clogged after this long without a crossing /t0", 0.0, 1e7, Bounds::left_open);
   app.add_real("--max-time", f.max_time, "time limit per width /t0", 0.0, 1e8, Bounds::left_open);
   app.add_int("--threads", par.threads, "host threads (0: OMP_NUM_THREADS or all cores)", 0, 4096);
   app.add_flag("--no-plot", par.no_plot, "do not write the PNG plot");
-  return app.run(argc, argv, [&] {
-    mesoflow::KokkosScope kokkos(par.threads);
+  return ranks.finish(app.run(argc, argv, [&] {
     if (par.model == "dp" && par.dimension != "2")
       throw std::invalid_argument("--dimension: the dp model is 2D only, got " + par.dimension);
     if (par.vary == "pair-energy" && par.model != "sp")
@@ -360,28 +505,41 @@ int main(int argc, char** argv) {
     if ((par.vary == "perimeter-stiffness" || par.vary == "bending") && par.model != "dp")
       throw std::invalid_argument("--vary " + par.vary + ": needs --model dp");
     if (par.vary.empty() && !par.values.empty()) throw std::invalid_argument("--values: needs --vary");
+    ranks.start();
+    mesoflow::KokkosScope kokkos(par.threads);
     const int dim = par.dimension == "2" ? 2 : 3;
-    // One w sweep with the parameters as they are in p.
-    const auto sweep = [&](const mesoflow::Parameters& p, const std::string& output) {
-      if (p.model == "dp") {
-        mesoflow::hopper::DpHopperParameters d = p.dp;
-        d.particles = p.scene.particles;
-        d.hopper_width = p.scene.hopper_width;
-        d.wall_angle = p.scene.wall_angle;
-        d.drag = p.scene.drag;
-        d.friction = p.scene.friction;
-        d.seed = p.scene.seed;
-        d.dt = p.dt;
-        return mesoflow::run<mesoflow::hopper::DpHopperScene<>, 2>(d, p, app, d.vertices, output);
+    // The w sweeps of `requests`, each with the parameters as they are in its request, over all ranks.
+    const auto sweep = [&](const std::vector<mesoflow::SweepRequest>& requests) {
+      if (par.model == "dp") {
+        std::vector<mesoflow::SweepSpec<mesoflow::hopper::DpHopperParameters>> sweeps;
+        for (const mesoflow::SweepRequest& request : requests) {
+          const mesoflow::Parameters& p = request.parameters;
+          mesoflow::hopper::DpHopperParameters d = p.dp;
+          d.particles = p.scene.particles;
+          d.hopper_width = p.scene.hopper_width;
+          d.wall_angle = p.scene.wall_angle;
+          d.drag = p.scene.drag;
+          d.friction = p.scene.friction;
+          d.seed = p.scene.seed;
+          d.dt = p.dt;
+          d.force_dt = p.scene.force_dt;
+          sweeps.push_back({d, request.output, request.label});
+        }
+        return mesoflow::run<mesoflow::hopper::DpHopperScene<>, 2>(sweeps, par, app, ranks, par.dp.vertices);
       }
-      mesoflow::hopper::HopperParameters sp = p.scene;
-      sp.dt = p.dt > 0 ? p.dt : std::min(1e-3, 0.9 * sp.max_stable_dt(dim));
-      return dim == 2 ? mesoflow::run<mesoflow::hopper::HopperScene<2>, 2>(sp, p, app, 1, output)
-                      : mesoflow::run<mesoflow::hopper::HopperScene<3>, 3>(sp, p, app, 1, output);
+      std::vector<mesoflow::SweepSpec<mesoflow::hopper::HopperParameters>> sweeps;
+      for (const mesoflow::SweepRequest& request : requests) {
+        const mesoflow::Parameters& p = request.parameters;
+        mesoflow::hopper::HopperParameters sp = p.scene;
+        sp.dt = p.dt > 0 ? p.dt : std::min(1e-3, 0.9 * sp.max_stable_dt(dim));
+        sweeps.push_back({sp, request.output, request.label});
+      }
+      return dim == 2 ? mesoflow::run<mesoflow::hopper::HopperScene<2>, 2>(sweeps, par, app, ranks, 1)
+                      : mesoflow::run<mesoflow::hopper::HopperScene<3>, 3>(sweeps, par, app, ranks, 1);
     };
     if (par.vary.empty())
-      sweep(par, app.output());
+      sweep({{par, app.output(), ""}});
     else
-      mesoflow::run_varied(par, app, dim, sweep);
-  });
+      mesoflow::run_varied(par, app, ranks, dim, sweep);
+  }));
 }

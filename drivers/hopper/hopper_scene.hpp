@@ -26,6 +26,8 @@
 // 1 − 2d_w/σ_m); it takes the anchor's velocity. The particle count never changes.
 #pragma once
 
+#include "drivers/common/nan_watchdog.hpp"
+#include "drivers/common/time_step_limit.hpp"
 #include "kernels/common/box.hpp"
 #include "kernels/common/fire.hpp"
 #include "kernels/common/geometry.hpp"
@@ -42,6 +44,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <random>
 #include <stdexcept>
 #include <string>
@@ -69,6 +72,7 @@ struct HopperParameters {
   double friction = 0.0;         // μ/μ0
   double dt = 1e-3;              // Δt/t0 (§2.2)
   unsigned long long seed = 1;
+  bool force_dt = false;         // run a dt above the stability limit (a warning instead of an error)
 
   // Throws std::invalid_argument naming the first parameter outside its range.
   void validate(int dim) const {
@@ -86,19 +90,28 @@ struct HopperParameters {
     require(std::isfinite(drag) && drag >= 0, "drag ζ", "finite and >= 0", drag);
     require(std::isfinite(friction) && friction >= 0, "friction μ", "finite and >= 0", friction);
     require(std::isfinite(dt) && dt > 0, "time step dt", "finite and > 0", dt);
-    const double limit = max_stable_dt(dim);
-    require(dt <= limit, "time step dt", "<= " + std::to_string(limit) + " (stability limit of E_sp, E_w, μ, ζ)", dt);
+    cli::check_time_step("hopper scene", dt, stability_limit(dim), force_dt);
   }
 
   // Explicit limit: Δt ω ≤ 1 for the stiffest contact of a small particle (wall plus z neighbours,
   // z = 6 in 2D, 12 in 3D; half the Verlet limit Δt ω < 2) and Δt ν ≤ 2 for its damping rate
   // ν = z μ/M_s + ζ (the explicit limit of v' = −ν v).
-  double max_stable_dt(int dim) const {
+  double max_stable_dt(int dim) const { return stability_limit(dim).max_dt; }
+
+  // The same limit with the term that sets it: the larger of the wall (4E_w/σ_s²) and pair
+  // (z E_sp/σ_s²) stiffness when the contact mode binds, else friction or drag.
+  cli::TimeStepLimit stability_limit(int dim) const {
     const double z = dim == 2 ? 6 : 12;
     const double m = dim == 2 ? pi / 4 * sigma_small * sigma_small : pi / 6 * std::pow(sigma_small, 3);
-    const double k = 4 * wall_energy / (sigma_small * sigma_small) + z * pair_energy / (sigma_small * sigma_small);
-    const double omega = std::sqrt(k / m), nu = z * friction / m + drag;
-    return std::min(1 / omega, nu > 0 ? 2 / nu : HUGE_VAL);
+    const double k_wall = 4 * wall_energy / (sigma_small * sigma_small);
+    const double k_pair = z * pair_energy / (sigma_small * sigma_small);
+    const double omega = std::sqrt((k_wall + k_pair) / m), nu = z * friction / m + drag;
+    const double by_contacts = 1 / omega, by_damping = nu > 0 ? 2 / nu : HUGE_VAL;
+    if (by_damping < by_contacts)
+      return {by_damping, std::string(z * friction / m >= drag ? "friction μ" : "drag ζ") + " (damping rate " +
+                              std::to_string(nu) + "/t0)"};
+    return {by_contacts, std::string(k_pair >= k_wall ? "pair repulsion E_sp" : "wall repulsion E_w") + " (ω = " +
+                             std::to_string(omega) + "/t0)"};
   }
 };
 
@@ -209,6 +222,70 @@ class HopperScene {
     for (std::size_t i = 0; i < v.size(); ++i)
       for (int d = 0; d < D; ++d) v_host_(i, d) = Real(v[i][d]);
     Kokkos::deep_copy(p_.v, v_host_);
+  }
+
+  // The NaN watchdog's view of the scene (drivers/common/nan_watchdog.hpp). The state includes what
+  // a cell sort permutes (mass, type, ids, outside) and, on the host, the recycling RNG and counters;
+  // after a restore the neighbor list and wall candidates are rebuilt. The scene must outlive it.
+  watchdog::Watched watched() {
+    watchdog::Watched w;
+    w.state = {watchdog::Field::of("position", p_.x),   watchdog::Field::of("velocity", p_.v),
+               watchdog::Field::of("force", p_.f),      watchdog::Field::of("mass", p_.mass),
+               watchdog::Field::kept("type", p_.type),  watchdog::Field::kept("id", ids_),
+               watchdog::Field::kept("outside", outside_)};
+    w.step = [this] { step(); };
+    w.steps = [this] { return steps_; };
+    w.set_steps = [this](long long s) { steps_ = s; };
+    struct HostState {
+      std::mt19937_64 rng;
+      long long crossings, insertions, last_recycling_step;
+      double crossed, last_crossing_time;
+    };
+    auto saved = std::make_shared<HostState>();
+    w.save_host = [this, saved] {
+      *saved = {rng_, crossings_, insertions_, last_recycling_step_, crossed_, last_crossing_time_};
+    };
+    w.restore_host = [this, saved] {
+      rng_ = saved->rng;
+      crossings_ = saved->crossings;
+      insertions_ = saved->insertions;
+      last_recycling_step_ = saved->last_recycling_step;
+      crossed_ = saved->crossed;
+      last_crossing_time_ = saved->last_crossing_time;
+    };
+    w.after_restore = [this] {
+      list_.build(p_, box_);
+      sp::find_wall_candidates(list_.skin(), contacts_, walls_, p_, wall_candidates_);
+    };
+    const auto alone = [this](auto add) {
+      return [this, add] {
+        p_.zero_forces();
+        add();
+      };
+    };
+    w.terms = {{"gravity", [this] { gravity_forces(gravity_on_); }},
+               {"pair repulsion E_sp (eq. 2)", alone([this] { pair_.accumulate_forces(contacts_, p_, list_, box_); })},
+               {"wall repulsion E_w (eq. 3)", alone([this] {
+                  sp::accumulate_wall_repulsion(Real(par_.wall_energy), contacts_, walls_, p_, wall_candidates_);
+                })}};
+    if (par_.friction > 0)
+      w.terms.push_back({"kinetic friction μ (eq. 6)", alone([this] {
+                           sp::accumulate_kinetic_friction(Real(par_.friction), contacts_, p_, p_.v, list_, box_);
+                         }),
+                         true});
+    if (par_.drag > 0)
+      w.terms.push_back({"viscous drag ζ (eq. 5)",
+                         alone([this] { sp::accumulate_mass_proportional_drag(Real(par_.drag), p_, p_.v); }), true});
+    const auto f = p_.f;
+    w.first_bad_force = [f] { return first_non_finite(f, "mesoflow::watchdog::term_check"); };
+    w.max_force = [f] { return max_norm(f, "mesoflow::watchdog::term_max"); };
+    const auto ids = ids_;
+    w.particle = [ids](long long i) {
+      int id = 0;
+      Kokkos::deep_copy(id, Kokkos::subview(ids, i));
+      return "particle " + std::to_string(id) + " (stored at " + std::to_string(i) + ")";
+    };
+    return w;
   }
 
   const particles_type& particles() const { return p_; }

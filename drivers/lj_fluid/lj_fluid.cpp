@@ -15,12 +15,15 @@
 // observables, parameters), <out>.xdmf (ParaView), <out>.csv (observables), <out>.json (summary),
 // <out>.ckpt.h5 (checkpoint, replaced atomically; --restart continues from it).
 #include "drivers/common/cli.hpp"
+#include "drivers/common/nan_watchdog.hpp"
 #include "drivers/common/output_paths.hpp"
 #include "drivers/common/particle_io.hpp"
 #include "drivers/common/progress.hpp"
+#include "drivers/common/time_step_limit.hpp"
 #include "kernels/common/fire.hpp"
 #include "kernels/common/langevin.hpp"
 #include "kernels/common/lennard_jones.hpp"
+#include "kernels/common/lennard_jones_stability.hpp"
 #include "kernels/common/pair_force.hpp"
 #include "kernels/common/random.hpp"
 #include "kernels/common/reductions.hpp"
@@ -43,12 +46,14 @@ struct Parameters {
   double cutoff = 2.5;
   double skin = 0.3;
   double dt = 0.005;
+  bool force_dt = false;  // --force-dt
   long long steps = 2000;
   double gamma = 0.0;
   long long seed = 12345;
   int fire_iterations = 500;
   long long dump_every = 100;
   long long checkpoint_every = 500;
+  long long check_every = 100;  // NaN watchdog
   std::string precision = "double";
   int threads = 0;
   bool restart = false;
@@ -171,7 +176,7 @@ void run(const Parameters& par, const cli::DriverApp& app) {
   const std::int64_t first = step;
   const auto t0 = std::chrono::steady_clock::now();
   const int builds_before = list.num_builds();
-  while (step < par.steps) {
+  auto one_step = [&] {
     {
       cli::ScopedTimer t(timers, "integrate");
       vv.first_half(p);
@@ -187,11 +192,41 @@ void run(const Parameters& par, const cli::DriverApp& app) {
     }
     ++step;
     time = double(step) * par.dt;
-    if (step % par.dump_every == 0 || step == par.steps) {
+  };
+  // The NaN watchdog (drivers/common/nan_watchdog.hpp): checked every check_every steps and before
+  // every output and checkpoint, so neither is ever written from a non-finite state.
+  watchdog::Watched watched;
+  watched.state = {watchdog::Field::of("position", p.x), watchdog::Field::of("velocity", p.v),
+                   watchdog::Field::of("force", p.f)};
+  watched.step = one_step;
+  watched.steps = [&] { return (long long)step; };
+  watched.set_steps = [&](long long s) {
+    step = s;
+    time = double(step) * par.dt;
+  };
+  watched.after_restore = [&] { list.build(p, box); };
+  watched.terms = {{"Lennard-Jones pair forces", [&] { pair_forces(); }}};
+  if (langevin.active())
+    watched.terms.push_back({"Langevin thermostat γ", [&] {
+                               p.zero_forces();
+                               langevin.accumulate(p, p.v, Real(par.dt), step);
+                             },
+                             true});
+  const auto f = p.f;
+  watched.first_bad_force = [f] { return first_non_finite(f, "mesoflow::watchdog::term_check"); };
+  watched.max_force = [f] { return max_norm(f, "mesoflow::watchdog::term_max"); };
+  watchdog::NanWatchdog watch(std::move(watched), par.check_every);
+  while (step < par.steps) {
+    one_step();
+    watch.after_step();
+    const bool dump = step % par.dump_every == 0 || step == par.steps;
+    const bool checkpoint = step % par.checkpoint_every == 0 || step == par.steps;
+    if (dump || checkpoint) watch.check();
+    if (dump) {
       cli::ScopedTimer t(timers, "output");
       record();
     }
-    if (step % par.checkpoint_every == 0 || step == par.steps) {
+    if (checkpoint) {
       cli::ScopedTimer t(timers, "checkpoint");
       h5->flush();
       driver::write_checkpoint(out.checkpoint, step, time, p, list, box);
@@ -230,17 +265,24 @@ int main(int argc, char** argv) {
   app.add_real("--temperature", par.temperature, "initial (and thermostat) temperature k_BT/ε", 0.0, 100.0, Bounds::left_open);
   app.add_real("--cutoff", par.cutoff, "LJ cutoff r_c/σ", 1.0, 10.0);
   app.add_real("--skin", par.skin, "neighbor-list skin /σ", 0.0, 5.0, Bounds::left_open);
-  app.add_real("--dt", par.dt, "time step Δt/τ", 0.0, 0.02, Bounds::left_open);
+  app.add_real("--dt", par.dt, "time step Δt/τ (refused above the stability limit)", 0.0, 0.02, Bounds::left_open);
+  app.add_flag(mesoflow::cli::force_dt_flag, par.force_dt, mesoflow::cli::force_dt_help);
   app.add_int("--steps", par.steps, "time steps to run (total, including any before a restart)", 0, 1000000000000LL);
   app.add_real("--gamma", par.gamma, "Langevin friction rate γτ (0: NVE)", 0.0, 1000.0);
   app.add_int("--seed", par.seed, "random seed (lattice jitter, velocities, Langevin noise)", 0, 4294967295LL);
   app.add_int("--fire-iterations", par.fire_iterations, "FIRE iterations of the initial quench", 0, 10000000);
   app.add_positive("--dump-every", par.dump_every, "steps between trajectory frames and observables");
   app.add_positive("--checkpoint-every", par.checkpoint_every, "steps between checkpoints");
+  app.add_int("--check-every", par.check_every,
+              "steps between NaN-watchdog checks (a non-finite state stops the run, naming particle, term and step)",
+              1, 1000000);
   app.add_choice("--precision", par.precision, "floating-point precision of the kernels", {"double", "float"});
   app.add_int("--threads", par.threads, "host threads (0: OMP_NUM_THREADS or all cores)", 0, 4096);
   app.add_flag("--restart", par.restart, "continue from <output>.ckpt.h5 (the same parameters otherwise)");
   return app.run(argc, argv, [&] {
+    // Contacts at 0.9σ and the Langevin friction (kernels/common/lennard_jones_stability.hpp).
+    const auto limit = mesoflow::lennard_jones_stability(1.0, 1.0, 1.0, par.temperature, par.gamma);
+    mesoflow::cli::check_time_step("lj_fluid", par.dt, {limit.max_dt(), limit.limiting_term("τ")}, par.force_dt);
     mesoflow::KokkosScope kokkos(par.threads);
     const bool single = par.precision == "float";
     if (par.dimension == 2)

@@ -40,11 +40,13 @@
 #include "drivers/common/output_paths.hpp"
 #include "drivers/common/particle_io.hpp"
 #include "drivers/common/progress.hpp"
+#include "drivers/common/time_step_limit.hpp"
 #include "drivers/pillars/permeability_theory.hpp"
 #include "drivers/pillars/pillar_layouts.hpp"
 #include "drivers/pillars/pillar_scene.hpp"
 
 #include "kernels/io/checkpoint.hpp"
+#include "kernels/mdpd/stability.hpp"
 
 #include <chrono>
 #include <cmath>
@@ -81,6 +83,7 @@ struct Parameters {
   int threads = 0;
   long long checkpoint_every = 10000;
   bool restart = false;
+  bool force_dt = false;  // --force-dt
 };
 
 // The parameters a restart must share with the run it continues, as a string kept in the
@@ -106,6 +109,26 @@ mdpd::MdpdParameters fluid_parameters(const Parameters& par, int dim) {
   mp.density_kernel = mdpd::parse_density_kernel(par.density_kernel);
   mp.validate();
   return mp;
+}
+
+// Refuses a --dt above the MDPD limit (kernels/mdpd/stability.hpp) unless --force-dt: the flow mode
+// has tethered solids and WCA cores, the viscosity mode only fluid.
+void check_time_step(const Parameters& par) {
+  const auto mp = fluid_parameters(par, par.dimension);
+  mdpd::MdpdStiffnessInputs s;
+  s.dimension = par.dimension;
+  s.density = par.density;
+  s.A = mp.A;
+  s.B = mp.B;
+  s.r_A = mp.r_A;
+  s.r_B = mp.r_B;
+  s.dissipation = mp.dissipation();
+  s.kT = mp.kT;
+  const bool solids = par.mode == "flow";
+  s.tether_stiffness = solids ? par.k_S : 0.0;
+  s.core_wca_epsilon = solids ? 1.0 : 0.0;  // MdpdPairForce's default WCA, ε = k_BT
+  const auto limit = mdpd::mdpd_stability(s);
+  cli::check_time_step("pillars", par.dt, {limit.max_dt(), limit.limiting_term("τ")}, par.force_dt);
 }
 
 // The scene's box, periodic on every axis (walls are a solid slab, pillar_scene.hpp).
@@ -670,7 +693,8 @@ int main(int argc, char** argv) {
   app.add_real("--B", par.B, "repulsion B (−1: 25 in 3D, 30 in 2D)", -1.0, 1000.0);
   app.add_real("--r-B", par.r_B, "density cut-off r_B/σ", 0.1, 1.0);
   app.add_real("--R", par.R, "random-force strength R", 0.0, 1000.0);
-  app.add_real("--dt", par.dt, "time step dt/τ", 0.0, 0.05, Bounds::left_open);
+  app.add_real("--dt", par.dt, "time step dt/τ (refused above the stability limit)", 0.0, 0.05, Bounds::left_open);
+  app.add_flag(mesoflow::cli::force_dt_flag, par.force_dt, mesoflow::cli::force_dt_help);
   app.add_real("--k-S", par.k_S, "tether stiffness of solid particles", 0.0, 1e4);
   app.add_choice("--density-kernel", par.density_kernel, "many-body density weight", {"normalized", "lucy"});
   app.add_choice("--list", par.list, "neighbor list", {"half", "full"});
@@ -680,6 +704,7 @@ int main(int argc, char** argv) {
               1000000000LL);
   app.add_flag("--restart", par.restart, "flow mode: continue the interrupted run from <out>.ckpt.h5");
   return app.run(argc, argv, [&] {
+    if (par.mode != "theory") mesoflow::check_time_step(par);
     mesoflow::KokkosScope kokkos(par.threads);
     if (par.mode == "theory")
       mesoflow::write_theory_table(app);

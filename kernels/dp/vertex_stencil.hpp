@@ -61,7 +61,10 @@ struct VertexStencil {
     for (int k = 0; k < 4; ++k) {
       const Vec2<Real> e = pos[k + 1] - pos[k];
       len[k] = kmath::sqrt(norm2(e));
-      unit[k] = (Real(1) / len[k]) * e;
+      // Two vertices can coincide in float when weak segment springs let line tension crowd them
+      // (K_l/Γ = 10⁻³): a zero-length edge has no direction, and its unit vector is taken as zero
+      // (the subgradient of |e| at 0) instead of 0/0 (found by the NaN watchdog, docs/tradeoff.md).
+      unit[k] = len[k] > Real(0) ? (Real(1) / len[k]) * e : Vec2<Real>::zero();
     }
   }
 };
