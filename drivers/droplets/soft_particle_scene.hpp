@@ -201,6 +201,7 @@ class SoftParticleScene {
                                      sp::ViscousDrag<Real>(drag_coefficient));
   }
 
+ public:  // a kernel: nvcc rejects a KOKKOS_LAMBDA in a private member function
   // f ← M g (or 0).
   void gravity_forces(bool with_gravity) {
     const auto f = p_.f;
@@ -212,6 +213,7 @@ class SoftParticleScene {
         });
   }
 
+ private:
   SoftParticleParameters par_;
   double dt_;
   Surfaces<Real, ExecSpace> surfaces_;

@@ -432,6 +432,7 @@ class DpHopperScene {
     sp::find_wall_candidates(list_.skin(), contacts_, walls_, p_, wall_candidates_);
   }
 
+ public:  // kernels below: nvcc rejects a KOKKOS_LAMBDA in a private member function
   // Marks first passages of centroids below the orifice plane, sums their a_m,0, counts polygons to recycle.
   void detect_crossings() {
     const auto com = state_.com;
@@ -540,6 +541,7 @@ class DpHopperScene {
     return worst;
   }
 
+ private:
   // Host re-insertion of every polygon whose centroid is more than recycle_depth below the orifice.
   void recycle() {
     Kokkos::deep_copy(x_host_, p_.x);

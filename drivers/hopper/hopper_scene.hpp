@@ -142,9 +142,7 @@ class HopperScene {
         wall_candidates_("mesoflow::hopper::wall_candidates", std::size_t(par.particles)),
         rng_(par.seed ^ 0x9e3779b97f4a7c15ULL) {
     place_randomly();
-    const auto ids = ids_;
-    Kokkos::parallel_for(
-        "mesoflow::hopper::ids", Kokkos::RangePolicy<ExecSpace>(0, p_.size()), KOKKOS_LAMBDA(int i) { ids(i) = i; });
+    number_ids(ids_);
     x_host_ = Kokkos::create_mirror_view(p_.x);
     v_host_ = Kokkos::create_mirror_view(p_.v);
     type_host_ = Kokkos::create_mirror_view(p_.type);
@@ -365,6 +363,13 @@ class HopperScene {
     box_ = Box<D, Real>(lo, len, periodic);
   }
 
+ public:  // kernels below: nvcc rejects a KOKKOS_LAMBDA in a private member function
+  // ids(i) ← i. (Not in the constructor: nvcc rejects a KOKKOS_LAMBDA there.)
+  static void number_ids(const Kokkos::View<int*, ExecSpace>& ids) {
+    Kokkos::parallel_for(
+        "mesoflow::hopper::ids", Kokkos::RangePolicy<ExecSpace>(0, ids.extent(0)), KOKKOS_LAMBDA(int i) { ids(i) = i; });
+  }
+
   // f ← M g (g along −axis D−1) or 0.
   void gravity_forces(bool with_gravity) {
     const auto f = p_.f;
@@ -453,6 +458,7 @@ class HopperScene {
     return dirs;
   }
 
+ private:
   // Host re-insertion of every particle more than recycle_depth below the orifice (see file comment).
   void recycle() {
     Kokkos::deep_copy(x_host_, p_.x);

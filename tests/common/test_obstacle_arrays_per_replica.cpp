@@ -43,6 +43,35 @@ std::vector<std::vector<Vec<2, double>>> arrays() {
   return a;
 }
 
+// Kernels of the tests below live in free functions: nvcc rejects a KOKKOS_LAMBDA in a TYPED_TEST
+// body (GoogleTest's private TestBody()).
+
+// d(i, a): distance from point i to the nearest obstacle of array a.
+template <class Real, class Exec, class PointView>
+Kokkos::View<double**, Exec> nearest_in_every_array(const ObstacleArray<Real, Exec>& all, const PointView& x) {
+  const int n = int(x.extent(0));
+  Kokkos::View<double**, Exec> d("d", n, kArrays);
+  Kokkos::parallel_for(
+      "mesoflow::test::nearest_in_every_array", Kokkos::RangePolicy<Exec>(0, n), KOKKOS_LAMBDA(int i) {
+        for (int a = 0; a < kArrays; ++a)
+          d(i, a) = all.nearest(a, Vec<2, Real>{{Real(x(i, 0)), Real(x(i, 1))}}).distance;
+      });
+  return d;
+}
+
+// d(i): distance from particle i to the nearest candidate obstacle of its body (per particles each).
+template <class Real, class Exec, class PositionView>
+Kokkos::View<double*, Exec> nearest_candidate(const BodyObstacleList<Real, Exec>& list, const PositionView& x,
+                                              int per) {
+  const int n = int(x.extent(0));
+  Kokkos::View<double*, Exec> d("d", n);
+  Kokkos::parallel_for(
+      "mesoflow::test::nearest_candidate", Kokkos::RangePolicy<Exec>(0, n), KOKKOS_LAMBDA(int i) {
+        d(i) = list.nearest(i / per, Vec<2, Real>::load(x, i)).distance;
+      });
+  return d;
+}
+
 TYPED_TEST(ObstacleArraysPerReplicaTest, NearestSeesOnlyItsOwnArray) {
   using Real = typename TypeParam::real;
   using Exec = typename TypeParam::exec;
@@ -61,12 +90,7 @@ TYPED_TEST(ObstacleArraysPerReplicaTest, NearestSeesOnlyItsOwnArray) {
   std::uniform_real_distribution<double> u(-kL, 2 * kL);  // images of the box too
   for (int i = 0; i < n; ++i) xh(i, 0) = u(gen), xh(i, 1) = u(gen);
   const auto x = Kokkos::create_mirror_view_and_copy(typename Exec::memory_space(), xh);
-  Kokkos::View<double**, Exec> d("d", n, kArrays);
-  Kokkos::parallel_for(
-      Kokkos::RangePolicy<Exec>(0, n), KOKKOS_LAMBDA(int i) {
-        for (int a = 0; a < kArrays; ++a)
-          d(i, a) = all.nearest(a, Vec<2, Real>{{Real(x(i, 0)), Real(x(i, 1))}}).distance;
-      });
+  const auto d = nearest_in_every_array(all, x);
   const auto dh = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), d);
   const double tol = 1e3 * testing::eps<Real>() * kL;  // positions of magnitude 2L rounded to Real
   double worst = 0;
@@ -110,12 +134,7 @@ TYPED_TEST(ObstacleArraysPerReplicaTest, BodyCandidatesComeFromTheBodysArray) {
   Kokkos::deep_copy(p.x, xh);
   BodyObstacleList<Real, Exec> list(all, offset, body_array, Real(0.5));
   list.update(p.x);
-  Kokkos::View<double*, Exec> d("d", bodies * per);
-  const auto x = p.x;
-  Kokkos::parallel_for(
-      Kokkos::RangePolicy<Exec>(0, bodies * per), KOKKOS_LAMBDA(int i) {
-        d(i) = list.nearest(i / per, Vec<2, Real>::load(x, i)).distance;
-      });
+  const auto d = nearest_candidate(list, p.x, per);
   const auto dh = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), d);
   double worst = 0;
   for (int i = 0; i < bodies * per; ++i)

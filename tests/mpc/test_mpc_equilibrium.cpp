@@ -71,6 +71,43 @@ double temperature(const View& v, double mass) {
   return mass * s[0] / (D * (n - 1.0));
 }
 
+// Kernels of the tests below live in free functions: nvcc rejects a KOKKOS_LAMBDA in a TYPED_TEST
+// body (GoogleTest's private TestBody()).
+
+// 2D velocities of magnitude `speed` in random directions.
+template <class View>
+void set_equal_speeds(const View& v, typename View::value_type speed) {
+  using Real = typename View::value_type;
+  Kokkos::parallel_for(
+      "mesoflow::test::equal_speeds", Kokkos::RangePolicy<typename View::execution_space>(0, v.extent(0)),
+      KOKKOS_LAMBDA(const int i) {
+        RandomStream rs(5, 0, stream_tag::initial_condition, static_cast<std::uint32_t>(i), 1);
+        const Real angle = Real(6.283185307179586) * rs.uniform<Real>();
+        v(i, 0) = speed * kmath::cos(angle);
+        v(i, 1) = speed * kmath::sin(angle);
+      });
+}
+
+// v_x += u for every particle.
+template <class View>
+void add_drift(const View& v, typename View::value_type u) {
+  Kokkos::parallel_for(
+      "mesoflow::test::drift", Kokkos::RangePolicy<typename View::execution_space>(0, v.extent(0)),
+      KOKKOS_LAMBDA(const int i) { v(i, 0) += u; });
+}
+
+// Σ v_d (d < D) and Σ ½|v|², unit mass.
+template <int D, class View>
+std::array<double, D + 1> momentum_and_energy(const View& v) {
+  return parallel_sum<D + 1, typename View::execution_space>(
+      "mesoflow::test::totals", int(v.extent(0)), KOKKOS_LAMBDA(const int i, double(&acc)[D + 1]) {
+        for (int d = 0; d < D; ++d) {
+          acc[d] += double(v(i, d));
+          acc[D] += 0.5 * double(v(i, d)) * double(v(i, d));
+        }
+      });
+}
+
 TYPED_TEST(MpcEquilibriumTest, AtRulesRelaxToMaxwellBoltzmannAtTheSetTemperature) {
   using Real = typename TypeParam::real;
   using Exec = typename TypeParam::exec;
@@ -90,13 +127,7 @@ TYPED_TEST(MpcEquilibriumTest, AtRulesRelaxToMaxwellBoltzmannAtTheSetTemperature
     fill_uniform_counter(x, lo, hi, 5);
     // All speeds equal to 2σ√2 (kinetic temperature 2 k_BT), random directions.
     const Real speed = Real(2 * sigma * std::sqrt(2.0));
-    Kokkos::parallel_for(
-        "mesoflow::test::equal_speeds", Kokkos::RangePolicy<Exec>(0, n), KOKKOS_LAMBDA(const int i) {
-          RandomStream rs(5, 0, stream_tag::initial_condition, static_cast<std::uint32_t>(i), 1);
-          const Real angle = Real(6.283185307179586) * rs.uniform<Real>();
-          v(i, 0) = speed * kmath::cos(angle);
-          v(i, 1) = speed * kmath::sin(angle);
-        });
+    set_equal_speeds(v, speed);
     ChiSquare initial;
     add_samples(initial, v, 0, sigma);
     const Kokkos::Array<Real, D> no_force = {Real(0), Real(0)};
@@ -138,16 +169,8 @@ TYPED_TEST(MpcEquilibriumTest, SrdConservesTotalEnergyAndMomentumOverManySteps) 
   const Real lo[D] = {Real(0), Real(0), Real(0)}, hi[D] = {Real(20), Real(20), Real(10)};
   fill_uniform_counter(x, lo, hi, 8);
   mpc::fill_maxwell_boltzmann(v, Real(1), Real(1), 8);
-  Kokkos::parallel_for(
-      "mesoflow::test::drift", Kokkos::RangePolicy<Exec>(0, n), KOKKOS_LAMBDA(const int i) { v(i, 0) += Real(0.5); });
-  auto totals = [&] {
-    return parallel_sum<D + 1, Exec>("mesoflow::test::totals", n, KOKKOS_LAMBDA(const int i, double(&acc)[D + 1]) {
-      for (int d = 0; d < D; ++d) {
-        acc[d] += double(v(i, d));
-        acc[D] += 0.5 * double(v(i, d)) * double(v(i, d));
-      }
-    });
-  };
+  add_drift(v, Real(0.5));
+  auto totals = [&] { return momentum_and_energy<D>(v); };
   const auto before = totals();
   const int steps = 100;
   for (int s = 0; s < steps; ++s) collision.stream_and_collide(x, v, Real(0.1), {Real(0), Real(0), Real(0)}, s);
