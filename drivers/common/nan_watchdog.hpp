@@ -113,6 +113,19 @@ class NonFiniteState : public std::runtime_error {
   Diagnosis diagnosis_;
 };
 
+// The common part of a particle scene's view: positions, velocities and forces as the state (the
+// forces of the last step feed velocity Verlet's first half-kick), and the force array as where
+// each term alone writes. Scenes add step, counter, terms and any further state.
+template <class ParticlesT>
+Watched watch_particles(const ParticlesT& p) {
+  Watched w;
+  w.state = {Field::of("position", p.x), Field::of("velocity", p.v), Field::of("force", p.f)};
+  const auto f = p.f;
+  w.first_bad_force = [f] { return first_non_finite(f, "mesoflow::watchdog::term_check"); };
+  w.max_force = [f] { return max_norm(f, "mesoflow::watchdog::term_max"); };
+  return w;
+}
+
 // Whether a scene provides watched() (scenes without one run unwatched).
 template <class Scene, class = void>
 struct has_watched : std::false_type {};

@@ -244,9 +244,7 @@ class DropletScene {
   // (x, v and the forces of the last step, which the first half-step uses), the step counter, and
   // every force term of step() alone. The scene must outlive the returned value.
   watchdog::Watched watched() {
-    watchdog::Watched w;
-    w.state = {watchdog::Field::of("position", p_.x), watchdog::Field::of("velocity", p_.v),
-               watchdog::Field::of("force", p_.f)};
+    watchdog::Watched w = watchdog::watch_particles(p_);
     w.step = [this] { step(); };
     w.steps = [this] { return steps_; };
     w.set_steps = [this](long long s) { steps_ = s; };
@@ -275,9 +273,6 @@ class DropletScene {
                            with_surfaces([&](const auto& q) { accumulate_surface_forces(q, p_, p_.v, none, drag()); });
                          },
                          true});
-    const auto f = p_.f;
-    w.first_bad_force = [f] { return first_non_finite(f, "mesoflow::watchdog::term_check"); };
-    w.max_force = [f] { return max_norm(f, "mesoflow::watchdog::term_max"); };
     w.particle = [this](long long i) {
       for (int b = 0; b < polygons_.num_bodies(); ++b)
         if (i < polygons_.first_vertex(b) + polygons_.num_vertices(b))

@@ -159,9 +159,7 @@ class SoftParticleScene {
   // The NaN watchdog's view of the scene (drivers/common/nan_watchdog.hpp): x, v, f and the step
   // counter; gravity, eq. 8's repulsion and eq. 10's drag alone. The scene must outlive it.
   watchdog::Watched watched() {
-    watchdog::Watched w;
-    w.state = {watchdog::Field::of("position", p_.x), watchdog::Field::of("velocity", p_.v),
-               watchdog::Field::of("force", p_.f)};
+    watchdog::Watched w = watchdog::watch_particles(p_);
     w.step = [this] { step(); };
     w.steps = [this] { return steps_; };
     w.set_steps = [this](long long s) { steps_ = s; };
@@ -178,9 +176,6 @@ class SoftParticleScene {
                                             sp::ViscousDrag<Real>(Real(b_inf_)));
                 },
                 true}};
-    const auto f = p_.f;
-    w.first_bad_force = [f] { return first_non_finite(f, "mesoflow::watchdog::term_check"); };
-    w.max_force = [f] { return max_norm(f, "mesoflow::watchdog::term_max"); };
     w.particle = [](long long i) { return "droplet " + std::to_string(i); };
     return w;
   }

@@ -226,11 +226,9 @@ class HopperScene {
   // a cell sort permutes (mass, type, ids, outside) and, on the host, the recycling RNG and counters;
   // after a restore the neighbor list and wall candidates are rebuilt. The scene must outlive it.
   watchdog::Watched watched() {
-    watchdog::Watched w;
-    w.state = {watchdog::Field::of("position", p_.x),   watchdog::Field::of("velocity", p_.v),
-               watchdog::Field::of("force", p_.f),      watchdog::Field::of("mass", p_.mass),
-               watchdog::Field::kept("type", p_.type),  watchdog::Field::kept("id", ids_),
-               watchdog::Field::kept("outside", outside_)};
+    watchdog::Watched w = watchdog::watch_particles(p_);
+    w.state.insert(w.state.end(), {watchdog::Field::of("mass", p_.mass), watchdog::Field::kept("type", p_.type),
+                                   watchdog::Field::kept("id", ids_), watchdog::Field::kept("outside", outside_)});
     w.step = [this] { step(); };
     w.steps = [this] { return steps_; };
     w.set_steps = [this](long long s) { steps_ = s; };
@@ -274,9 +272,6 @@ class HopperScene {
     if (par_.drag > 0)
       w.terms.push_back({"viscous drag ζ (eq. 5)",
                          alone([this] { sp::accumulate_mass_proportional_drag(Real(par_.drag), p_, p_.v); }), true});
-    const auto f = p_.f;
-    w.first_bad_force = [f] { return first_non_finite(f, "mesoflow::watchdog::term_check"); };
-    w.max_force = [f] { return max_norm(f, "mesoflow::watchdog::term_max"); };
     const auto ids = ids_;
     w.particle = [ids](long long i) {
       int id = 0;

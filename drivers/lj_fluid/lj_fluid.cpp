@@ -195,9 +195,7 @@ void run(const Parameters& par, const cli::DriverApp& app) {
   };
   // The NaN watchdog (drivers/common/nan_watchdog.hpp): checked every check_every steps and before
   // every output and checkpoint, so neither is ever written from a non-finite state.
-  watchdog::Watched watched;
-  watched.state = {watchdog::Field::of("position", p.x), watchdog::Field::of("velocity", p.v),
-                   watchdog::Field::of("force", p.f)};
+  watchdog::Watched watched = watchdog::watch_particles(p);
   watched.step = one_step;
   watched.steps = [&] { return (long long)step; };
   watched.set_steps = [&](long long s) {
@@ -212,9 +210,6 @@ void run(const Parameters& par, const cli::DriverApp& app) {
                                langevin.accumulate(p, p.v, Real(par.dt), step);
                              },
                              true});
-  const auto f = p.f;
-  watched.first_bad_force = [f] { return first_non_finite(f, "mesoflow::watchdog::term_check"); };
-  watched.max_force = [f] { return max_norm(f, "mesoflow::watchdog::term_max"); };
   watchdog::NanWatchdog watch(std::move(watched), par.check_every);
   while (step < par.steps) {
     one_step();

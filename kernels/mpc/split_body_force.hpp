@@ -9,6 +9,9 @@
 
 #include "kernels/common/kokkos_compat.hpp"
 
+#include <stdexcept>
+#include <string>
+
 namespace mesoflow::mpc {
 
 // x, v: particle rows; g: the acceleration magnitude; axis: the gradient axis (≠ 0, the flow axis).
@@ -17,6 +20,9 @@ void kick_split_body_force(const Kokkos::View<Real* [D], Kokkos::LayoutLeft, Exe
                            const Kokkos::View<Real* [D], Kokkos::LayoutLeft, ExecSpace>& v, Real g, Real h,
                            const CollisionGrid<D, Real>& grid, int axis) {
   static_assert(D >= 2, "a split body force needs a gradient axis besides the flow axis");
+  if (axis < 1 || axis >= D)
+    throw std::invalid_argument("split body force: gradient axis must be in [1, " + std::to_string(D - 1) +
+                                "] (axis 0 is the flow), got " + std::to_string(axis));
   const Real lo = grid.lo[axis], length = grid.length[axis], dv = g * h;
   Kokkos::parallel_for(
       "mesoflow::mpc::split_body_force", Kokkos::RangePolicy<ExecSpace>(0, x.extent(0)), KOKKOS_LAMBDA(const int i) {

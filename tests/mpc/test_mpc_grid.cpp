@@ -2,6 +2,7 @@
 // wrap, the extra layer of walled axes, points on cell faces), the grid shift's range and
 // reproducibility, the size checks, and eq. (B.1) with periodic wrapping.
 #include "kernels/mpc/collision_grid.hpp"
+#include "kernels/mpc/split_body_force.hpp"
 #include "kernels/mpc/streaming.hpp"
 #include "test_types.hpp"
 
@@ -226,6 +227,41 @@ TYPED_TEST(MpcGridTest, StreamingAppliesB1AndWrapsPeriodicAxesOnly) {
   }
   EXPECT_GT(wrapped, 50);
   EXPECT_GT(left_walled_box, 50);
+}
+
+// The periodic-Poiseuille drive: v_x += g h in the lower half of the gradient axis (periodic images
+// folded back), −g h in the upper half, v_y untouched; with equal halves the total momentum is
+// unchanged. A gradient axis equal to the flow axis is refused.
+TYPED_TEST(MpcGridTest, SplitBodyForceKicksEachHalfOppositelyAndConservesMomentum) {
+  using Real = typename TypeParam::real;
+  using Exec = typename TypeParam::exec;
+  const auto g = make_collision_grid<2, Real>(Real(1), {Real(0), Real(-4)}, {Real(10), Real(8)}, {1, 1});
+  // y: lower half [-4, 0), upper half [0, 4), and images one box length away.
+  const double ys[] = {-3.5, -0.25, 0.25, 3.5, 4.5, 11.75, -11.5, -4.25};
+  const double expected_sign[] = {1, 1, -1, -1, 1, -1, 1, -1};
+  const int n = 8;
+  Kokkos::View<Real* [2], Kokkos::LayoutLeft, Exec> x("x", n), v("v", n);
+  auto xh = Kokkos::create_mirror_view(x);
+  auto vh = Kokkos::create_mirror_view(v);
+  for (int i = 0; i < n; ++i) {
+    xh(i, 0) = Real(0.5 * i);
+    xh(i, 1) = Real(ys[i]);
+    vh(i, 0) = Real(0.1 * i);
+    vh(i, 1) = Real(-0.2 * i);
+  }
+  Kokkos::deep_copy(x, xh);
+  Kokkos::deep_copy(v, vh);
+  const Real gravity = Real(0.3), h = Real(0.5);
+  mpc::kick_split_body_force(x, v, gravity, h, g, 1);
+  Kokkos::deep_copy(vh, v);
+  double px = 0;
+  for (int i = 0; i < n; ++i) {
+    EXPECT_NEAR(double(vh(i, 0)), 0.1 * i + expected_sign[i] * 0.15, 8 * testing::eps<Real>()) << "particle " << i;
+    EXPECT_EQ(double(vh(i, 1)), double(Real(-0.2 * i)));
+    px += double(vh(i, 0)) - 0.1 * i;
+  }
+  EXPECT_NEAR(px, 0.0, 16 * testing::eps<Real>());
+  EXPECT_THROW(mpc::kick_split_body_force(x, v, gravity, h, g, 0), std::invalid_argument);
 }
 
 }  // namespace
