@@ -66,9 +66,21 @@
 // tensor (the major and minor axes; the undeformed icosphere has D ≈ 0, its extents differing with
 // the axis by at most a facet's sag, ~δ²/(8a));
 // total momentum Σ m v; largest speed; largest |ρ − ρ0|/ρ0; a finite check.
+//
+// NaN watchdog (watched(), drivers/common/nan_watchdog.hpp): the state is every per-particle array a
+// step reads or a sort permutes (x, v, f, ρ, ρ̇, mass, μ, ū, type, body, Morris wall geometry), the
+// bond ends and CSR rows, the membrane slots, the particles' slots (`particle_slot()`: where each
+// particle of the build order is stored now, renumbered at every sort like the bonds), the scene's
+// step counter and body force. Particles are named by their build-order index and kind ("membrane
+// vertex 12 of the outer layer", "outer fluid particle 301"), with the index they are stored at.
+// On the host the SPH system's counters (step, rebuilds since the last memory sort, sorts) and, on
+// the device, its neighbor list's reference positions are saved too; a restore rebuilds the list
+// from them (SphSystem::resume), so the replay rebuilds and sorts at the same steps as the run and
+// repeats it bit for bit (tests/capsule/test_capsule_watchdog.cpp).
 #pragma once
 
 #include "drivers/capsule/channel_geometry.hpp"
+#include "drivers/common/nan_watchdog.hpp"
 #include "drivers/common/time_step_limit.hpp"
 #include "kernels/common/box.hpp"
 #include "kernels/common/particle_sort.hpp"
@@ -87,6 +99,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <optional>
 #include <random>
 #include <stdexcept>
@@ -200,6 +213,19 @@ struct CapsuleTimeStepLimits {
   }
 };
 
+// Zeroes the pressure (p/ρ²) and/or viscosity columns of packed SPH rows: the pair loop then yields
+// one term of eq. (5) alone (the NaN watchdog's term evaluation, CapsuleScene::watched()).
+template <int D, class Real, class ExecSpace>
+void zero_sph_columns(const sph::SphRows<D, Real, ExecSpace>& rows, bool pressure, bool viscosity) {
+  using C = sph::SphColumn<D>;
+  Kokkos::parallel_for(
+      "mesoflow::capsule::watchdog_zero_columns", Kokkos::RangePolicy<ExecSpace>(0, rows.extent(0)),
+      KOKKOS_LAMBDA(int i) {
+        if (pressure) rows(i, C::p_over_rho2) = Real(0);
+        if (viscosity) rows(i, C::mu) = Real(0);
+      });
+}
+
 template <class Real, class ExecSpace = Kokkos::DefaultExecutionSpace>
 class CapsuleScene {
  public:
@@ -227,9 +253,16 @@ class CapsuleScene {
   // One step of eqs. (11)–(16) with the bond forces of eq. (7).
   void step() {
     sys_.step([this](const auto& p) { add_membrane_forces(p); });
+    ++steps_;
   }
   // F of eq. (2) on the fluids (the constriction driver's flow control).
-  void set_body_force(const sph::BodyForce<3, Real>& body) { sys_.set_body_force(body); }
+  void set_body_force(const sph::BodyForce<3, Real>& body) {
+    body_force_ = body;
+    sys_.set_body_force(body);
+  }
+  const sph::BodyForce<3, Real>& body_force() const { return body_force_; }
+  // Steps run (the SPH system's own counter also counts the steps a NaN-watchdog replay reruns).
+  long long steps() const { return steps_; }
   void run(long steps) {
     for (long k = 0; k < steps; ++k) step();
   }
@@ -365,6 +398,107 @@ class CapsuleScene {
     const double E = 5 * par_.k_b / (std::sqrt(3.0) * mesh_.mean_in_layer_bond_length());
     return E * par_.thickness / (2 * (1 + 0.25));
   }
+
+  // The NaN watchdog's view of the scene (see the file comment). The scene must outlive it.
+  watchdog::Watched watched() {
+    auto& p = sys_.particles;
+    watchdog::Watched w = watchdog::watch_particles(p);
+    const auto& b = bonds_.bonds();
+    w.state.insert(w.state.end(),
+                   {watchdog::Field::of("density", sys_.rho), watchdog::Field::of("density rate", sys_.drho),
+                    watchdog::Field::of("mass", p.mass), watchdog::Field::kept("viscosity", sys_.mu),
+                    watchdog::Field::kept("extrapolated velocity", sys_.u_bar), watchdog::Field::kept("type", p.type),
+                    watchdog::Field::kept("body", p.body), watchdog::Field::kept("bond ends", b.ends),
+                    watchdog::Field::kept("bond rows", b.row_particle),
+                    watchdog::Field::kept("bond partners", b.incident_partner),
+                    watchdog::Field::kept("membrane slots", membrane_slot_),
+                    watchdog::Field::kept("particle slots", particle_slot_)});
+    if (sys_.wall_geometry.extent(0) > 0) w.state.push_back(watchdog::Field::kept("wall geometry", sys_.wall_geometry));
+    w.step = [this] { step(); };
+    w.steps = [this] { return steps_; };
+    w.set_steps = [this](long long s) { steps_ = s; };
+    struct Kept {
+      sph::BodyForce<3, Real> body;
+      typename System::Counters counters{};
+      typename System::vector_view reference;
+    };
+    auto kept = std::make_shared<Kept>();
+    kept->reference = typename System::vector_view(
+        Kokkos::view_alloc(Kokkos::WithoutInitializing, "mesoflow::capsule::watchdog_reference"), p.size());
+    w.save_host = [this, kept] {
+      kept->body = body_force_;
+      kept->counters = sys_.counters();
+      copy_field(kept->reference, sys_.neighbor_reference_positions(), "mesoflow::watchdog::save");
+    };
+    w.restore_host = [this, kept] { set_body_force(kept->body); };
+    w.after_restore = [this, kept] {
+      sys_.resume(kept->counters, kept->reference);
+      seen_sorts_ = sys_.num_sorts();
+    };
+    auto alone = std::make_shared<TermsAlone>(*this);
+    w.terms = {{"SPH pressure (eqs. 5-6)", [this, alone] { alone->pair(*this, false, true, false); }},
+               {"SPH viscous force μ (eq. 5)", [this, alone] { alone->pair(*this, true, false, false); }, true}};
+    if (body_force_.active())
+      w.terms.push_back({"body force F (eq. 2)", [this, alone] { alone->pair(*this, true, true, true); }});
+    w.terms.push_back({"membrane bonds k_b (eq. 7)", [this] {
+                         sys_.particles.zero_forces();
+                         bonds_.accumulate(sys_.particles, sys_.box());
+                       }});
+    const auto slots = particle_slot_;
+    const int outer = num_outer_fluid(), fluid = num_fluid(), membrane = membrane_offset(),
+              per_layer = mesh_.vertices_per_layer;
+    w.particle = [slots, outer, fluid, membrane, per_layer](long long i) {
+      const auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), slots);
+      std::string name = "particle stored at " + std::to_string(i);
+      for (std::size_t k = 0; k < h.extent(0); ++k) {
+        if (h(k) != i) continue;
+        const int n = int(k);
+        if (n < outer)
+          name = "outer fluid particle " + std::to_string(n);
+        else if (n < fluid)
+          name = "inner fluid particle " + std::to_string(n);
+        else if (n < membrane)
+          name = "wall particle " + std::to_string(n);
+        else
+          name = "membrane vertex " + std::to_string(n - membrane) +
+                 (n - membrane < per_layer ? " of the outer layer" : " of the inner layer");
+        name += " (stored at " + std::to_string(i) + ")";
+        break;
+      }
+      return name;
+    };
+    return w;
+  }
+
+  // Scratch of watched(): eq. (5)'s terms alone through a pair loop of their own on packed rows with
+  // the other term's column zeroed (the run's kernels, so the same arithmetic).
+  struct TermsAlone {
+    sph::SphPairInteractions<3, Real, ExecSpace, sph::LucyKernel<3, Real>> pair_loop;
+    sph::SphRows<3, Real, ExecSpace> rows;
+    Kokkos::View<Real*, ExecSpace> pressure, drho;
+    sph::MorrisWallFactor<Real> morris;
+
+    explicit TermsAlone(const CapsuleScene& scene)
+        : pair_loop(scene.sys_.kernel(), sph::BodyForce<3, Real>{}),
+          rows("mesoflow::capsule::watchdog_rows", scene.sys_.particles.size()),
+          pressure("mesoflow::capsule::watchdog_pressure", scene.sys_.particles.size()),
+          drho("mesoflow::capsule::watchdog_drho", scene.sys_.particles.size()),
+          morris(Real(scene.par_.sph.beta_max)) {}
+
+    // f ← eq. (5) with the pressure and/or viscous part dropped, plus the body force if asked.
+    void pair(CapsuleScene& scene, bool drop_pressure, bool drop_viscosity, bool with_body) {
+      const auto& sys = scene.sys_;
+      const auto& p = sys.particles;
+      sph::pack_sph_rows(p, sys.u_bar, sys.rho, sys.mu, sys.equation_of_state(), rows, pressure);
+      zero_sph_columns<3, Real, ExecSpace>(rows, drop_pressure, drop_viscosity);
+      pair_loop.set_body_force(with_body ? scene.body_force_ : sph::BodyForce<3, Real>{});
+      pair_loop.compute(rows, p.type, sys.neighbor_list(), sys.box(), p.f, drho, sys.wall_geometry, morris);
+    }
+  };
+
+  // particle_slot()(k) = where the particle with build-order index k (outer fluid, inner fluid,
+  // walls, membrane) is stored now, kept current through memory sorts.
+  const int_view& particle_slot() const { return particle_slot_; }
 
   const System& system() const { return sys_; }
   const Bonds& bonds() const { return bonds_; }
@@ -566,12 +700,16 @@ class CapsuleScene {
     auto slot = Kokkos::create_mirror_view(membrane_slot_);
     for (int k = 0; k < nm; ++k) slot(k) = no + k;
     Kokkos::deep_copy(membrane_slot_, slot);
+    particle_slot_ = int_view("mesoflow::capsule::particle_slot", n);
+    auto all = Kokkos::create_mirror_view(particle_slot_);
+    for (int k = 0; k < n; ++k) all(k) = k;
+    Kokkos::deep_copy(particle_slot_, all);
     x_host_ = Kokkos::create_mirror_view(Kokkos::HostSpace(), p.x);
     slot_host_ = Kokkos::create_mirror_view(Kokkos::HostSpace(), membrane_slot_);
 
     sph::BodyForce<3, Real> body_force;
     for (int d = 0; d < 3; ++d) body_force.g[d] = Real(par_.body_force[std::size_t(d)]);
-    sys_.set_body_force(body_force);
+    set_body_force(body_force);
   }
 
   // The extra forces of SphSystem::step: follow a memory sort of this step, then eq. (7).
@@ -584,6 +722,7 @@ class CapsuleScene {
                                "system");
       bonds_.renumber(sys_.last_sort_new_index());
       renumber_particle_indices(membrane_slot_, sys_.last_sort_new_index());
+      renumber_particle_indices(particle_slot_, sys_.last_sort_new_index());
       seen_sorts_ = sorts;
     }
     bonds_.accumulate(p, sys_.box());
@@ -595,7 +734,10 @@ class CapsuleScene {
   System sys_;
   Bonds bonds_;
   int_view membrane_slot_;
+  int_view particle_slot_;  // build-order index → storage index
   int seen_sorts_ = 0;
+  long long steps_ = 0;
+  sph::BodyForce<3, Real> body_force_{};
   CapsuleTimeStepLimits limits_;
   mutable typename Particles<3, Real, ExecSpace>::vector_view::HostMirror x_host_;
   mutable typename int_view::HostMirror slot_host_;

@@ -50,7 +50,9 @@
 // the first position where none of its vertices is within δ_mn of another polygon's vertex (relative
 // tolerance 10⁻⁹, as HopperScene) or within δ_m/2 of a wall, no edge crosses another polygon's edge
 // and neither centroid lies inside the other polygon (smooth model: no vertex within δ_mn of another
-// polygon's edge either). Every vertex takes the anchor's centroid velocity. N is conserved.
+// polygon's edge either). Every vertex takes the anchor's centroid velocity. N is conserved. A
+// blown-up state (a non-finite vertex, or one a box length outside the box: a forced Δt above the
+// limit) is not recycled but left for the NaN watchdog (watched(), drivers/common/nan_watchdog.hpp).
 //
 // relax(): the polygons start as regular N_v-gons of random orientation, placed by random sequential
 // adsorption (circumcircles disjoint, large polygons first) at packing fraction 0.5 of a_m,0 in the
@@ -300,6 +302,109 @@ class DpHopperScene {
     Kokkos::deep_copy(p_.v, v_host_);
   }
 
+  // The NaN watchdog's view of the scene (drivers/common/nan_watchdog.hpp). The state is what a step
+  // reads: x, v and the forces of the last step, the vertex masses, types, the polygons' `outside`
+  // flags and the vertices' candidate walls (marked at the last neighbor-list build), and on the
+  // host the recycling RNG and counters. The neighbor list is restored too: its reference positions
+  // are kept with the state and the list is rebuilt from them after a restore (as MdpdSystem::resume
+  // does), so it has the rows it had and rebuilds at the same steps: the replay retraces the run bit
+  // for bit (the vertices are never sorted in memory). Every force term of step() is evaluated
+  // alone; vertices are named "vertex k of polygon b". The scene must outlive the returned value.
+  watchdog::Watched watched() {
+    watchdog::Watched w = watchdog::watch_particles(p_);
+    w.state.insert(w.state.end(), {watchdog::Field::of("mass", p_.mass), watchdog::Field::kept("type", p_.type),
+                                   watchdog::Field::kept("outside", outside_),
+                                   watchdog::Field::kept("wall candidates", wall_candidates_)});
+    w.step = [this] { step(); };
+    w.steps = [this] { return steps_; };
+    w.set_steps = [this](long long s) { steps_ = s; };
+    struct HostState {
+      std::mt19937_64 rng;
+      long long crossings = 0, insertions = 0, last_recycling_step = -1;
+      double crossed = 0, last_crossing_time = 0, max_insertion_overlap = 0;
+      std::vector<int> last_inserted;
+      bool listed = false;                                   // the list had been built
+      typename particles_type::vector_view reference;        // its reference positions
+    };
+    auto saved = std::make_shared<HostState>();
+    saved->reference = typename particles_type::vector_view(
+        Kokkos::view_alloc(Kokkos::WithoutInitializing, "mesoflow::dp_hopper::watchdog_reference"), p_.size());
+    w.save_host = [this, saved] {
+      saved->rng = rng_;
+      saved->crossings = crossings_;
+      saved->insertions = insertions_;
+      saved->last_recycling_step = last_recycling_step_;
+      saved->crossed = crossed_;
+      saved->last_crossing_time = last_crossing_time_;
+      saved->max_insertion_overlap = max_insertion_overlap_;
+      saved->last_inserted = last_inserted_;
+      saved->listed = list_.num_builds() > 0;
+      if (saved->listed) copy_field(saved->reference, list_.reference_positions(), "mesoflow::watchdog::save");
+    };
+    w.restore_host = [this, saved] {
+      rng_ = saved->rng;
+      crossings_ = saved->crossings;
+      insertions_ = saved->insertions;
+      last_recycling_step_ = saved->last_recycling_step;
+      crossed_ = saved->crossed;
+      last_crossing_time_ = saved->last_crossing_time;
+      max_insertion_overlap_ = saved->max_insertion_overlap;
+      last_inserted_ = saved->last_inserted;
+    };
+    w.after_restore = [this, saved] {
+      if (!saved->listed) return;  // the next step builds it, as it would have
+      particles_type at_reference = p_;
+      at_reference.x = saved->reference;
+      list_.build(at_reference, box_);
+    };
+    const auto alone = [this](auto add) {
+      return [this, add] {
+        p_.zero_forces();
+        add();
+      };
+    };
+    const auto shape_term = [this](auto term) {
+      return [this, term] {
+        p_.zero_forces();
+        dp::update_body_state(polygons_, p_, state_);
+        dp::accumulate_shape_forces(polygons_, state_, p_, term);
+      };
+    };
+    w.terms = {
+        {"gravity", shape_term(dp::Gravity<Real>{Vec<2, Real>{{Real(0), gravity_on_ ? Real(-1) : Real(0)}}})},
+        {"area elasticity K_a (eq. 8)", shape_term(dp::AreaElasticity<Real>{Real(par_.area_stiffness)})},
+        {"segment springs K_l (eq. 8)", shape_term(dp::SegmentSprings<Real>{Real(par_.perimeter_stiffness)})}};
+    if (par_.bending_stiffness > 0)
+      w.terms.push_back({"bending K_b (eq. 8)", shape_term(dp::Bending<Real>{Real(par_.bending_stiffness)})});
+    if (par_.smooth)
+      w.terms.push_back({"smooth vertex contacts E_c (eq. 9, Appendix A)", alone([this] {
+                           dp::accumulate_smooth_vertex_contacts(contacts_, polygons_, p_, list_, box_);
+                         })});
+    else
+      w.terms.push_back(
+          {"vertex contacts E_c (eq. 9)", alone([this] { pair_.accumulate_forces(contacts_, p_, list_, box_); })});
+    w.terms.push_back({"vertex–wall repulsion E_w (eq. 10)", alone([this] {
+                         sp::accumulate_wall_repulsion(Real(par_.wall_energy), contacts_, walls_, p_, wall_candidates_);
+                       })});
+    if (par_.friction > 0)
+      w.terms.push_back({"kinetic friction μ (eq. 12)", alone([this] {
+                           dp::accumulate_vertex_friction(Real(par_.friction), contacts_, p_, p_.v, list_, box_);
+                         }),
+                         true});
+    if (par_.drag > 0)
+      w.terms.push_back({"vertex drag ζ (eq. 11)", alone([this] {
+                           dp::accumulate_vertex_drag(Real(par_.drag), polygons_, p_, p_.v);
+                         }),
+                         true});
+    const int nv = par_.vertices;
+    w.particle = [nv](long long i) {
+      const long long b = i / nv;
+      return "vertex " + std::to_string(i % nv) + " of polygon " + std::to_string(b) +
+             (b % 2 == 0 ? " (small)" : " (large)");
+    };
+    return w;
+  }
+
   const particles_type& particles() const { return p_; }
   const dp::Polygons<Real, ExecSpace>& polygons() const { return polygons_; }
   const DpHopperParameters& parameters() const { return par_; }
@@ -542,11 +647,27 @@ class DpHopperScene {
   }
 
  private:
+  // Whether the host copies hold a blown-up state (a time step forced above the stability limit): a
+  // non-finite vertex position or velocity, or a vertex more than a box length outside the box, which
+  // walls and recycling keep every vertex of a stable run inside. Such a state is not recycled (no
+  // placement could succeed): it is left for the NaN watchdog, which stops the run at its next check
+  // and names the step and force term (the replay skips the same recycling, so it retraces the run).
+  bool blown_up() const {
+    for (std::size_t i = 0; i < x_host_.extent(0); ++i)
+      for (int d = 0; d < 2; ++d) {
+        const double x = double(x_host_(i, d)), v = double(v_host_(i, d));
+        const double lo = double(box_.lo[d]), len = double(box_.length[d]);
+        if (!std::isfinite(x) || !std::isfinite(v) || x < lo - len || x > lo + 2 * len) return true;
+      }
+    return false;
+  }
+
   // Host re-insertion of every polygon whose centroid is more than recycle_depth below the orifice.
   void recycle() {
     Kokkos::deep_copy(x_host_, p_.x);
     Kokkos::deep_copy(v_host_, p_.v);
     Kokkos::deep_copy(outside_host_, outside_);
+    if (blown_up()) return;  // left as it is for the NaN watchdog (drivers/common/nan_watchdog.hpp)
     const int n = par_.particles;
     std::vector<HostBody> bodies(static_cast<std::size_t>(n));
     for (int b = 0; b < n; ++b) bodies[b] = host_body(b);

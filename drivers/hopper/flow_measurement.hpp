@@ -103,6 +103,7 @@ FlowResult measure_flow_rate(Scene& scene, const FlowSettings& s,
     const double q = (scene.crossed_measure() - crossed) / window;
     crossed = scene.crossed_measure();
     r.window_rates.push_back(q);
+    if (watch) watch->check();  // no window is measured from a non-finite state
     if (on_window) on_window(scene, q, measure_from >= 0);
     if (scene.time() - scene.last_crossing_time() >= s.clog_time) {
       r.clogged = true;

@@ -491,7 +491,7 @@ int main(int argc, char** argv) {
   app.add_int("--steady-windows", f.steady_windows, "windows M compared for the steady-state test", 2, 1000);
   app.add_int("--measure-windows", f.measure_windows, "windows averaged once steady", 4, 100000);
   app.add_int("--check-every", f.check_interval,
-              "sp: steps between NaN-watchdog checks (a non-finite state stops the run, naming particle, term and step)",
+              "steps between NaN-watchdog checks (a non-finite state stops the run, naming particle, term and step)",
               1, 1000000);
   app.add_real("--clog-time", f.clog_time, "clogged after this long without a crossing /t0", 0.0, 1e7, Bounds::left_open);
   app.add_real("--max-time", f.max_time, "time limit per width /t0", 0.0, 1e8, Bounds::left_open);

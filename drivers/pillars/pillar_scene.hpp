@@ -10,12 +10,15 @@
 // it. The channel is z ∈ [0, H), its mid-plane at H/2.
 #pragma once
 
+#include "drivers/common/nan_watchdog.hpp"
 #include "drivers/pillars/pillar_layouts.hpp"
 #include "kernels/common/random.hpp"
 #include "kernels/common/reductions.hpp"
 #include "kernels/mdpd/mdpd_system.hpp"
 
 #include <cmath>
+#include <cstdint>
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -184,6 +187,155 @@ FlowSample sample_flow(const mdpd::MdpdSystem<D, Real, Exec>& sys, const SceneGe
   out.pillar_tether = sums[3 * NB + 2];
   out.driven_fluid = sums[3 * NB + 3];
   return out;
+}
+
+// ---------------------------------------------------------------------------------------------
+// The NaN watchdog's view of an MDPD system (drivers/common/nan_watchdog.hpp): watched(sys, seed).
+//
+// State: x, v, the forces of the last step (the first half kick's), masses and tether sites
+// (checked), types, pillar indices and tags (kept); on the host the system's counters (step, rebuilds
+// since the last memory sort, sorts) and, on the device, the neighbor list's reference positions.
+// A restore puts all of it back and rebuilds the list from those reference positions
+// (MdpdSystem::resume, the path of a bit-identical restart), so the replay has the particles in the
+// same memory order, the same list rows, the same rebuilds and sorts at the same steps and the same
+// pair noise (keyed on step and tags): it retraces the run bit for bit at a fixed thread count.
+// The packed rows and densities are recomputed by every step and are not state.
+//
+// Terms, each alone: the conservative pair force A, B (eq. 9a, with the many-body densities
+// recomputed at the state), the dissipative and random pair forces (eqs. 9b–c, at the current
+// velocities and step), the WCA repulsion of solid cores (if the scene has cores), the tethers k_S
+// (if it has solids), the driving force f_b (if set) and the split Poiseuille force (viscosity mode).
+// Each pair term is its own MdpdPairForce with the other coefficients zero (the kernels of the run,
+// so the same arithmetic); their rows are scratch of the view. Particles are named by tag (the index
+// they had before any sort), with their kind and the index they are stored at.
+
+// xr(i, ρ̄ column) ← rho(i), or 0 where rho is empty.
+template <class Real, class Exec>
+void set_density_column(const mdpd::PackedRows<Real, Exec>& xr, const Kokkos::View<Real*, Exec>& rho) {
+  const bool zero = rho.extent(0) == 0;
+  Kokkos::parallel_for(
+      "mesoflow::pillars::watchdog_density_column", Kokkos::RangePolicy<Exec>(0, xr.extent(0)),
+      KOKKOS_LAMBDA(int i) { xr(i, mdpd::rho_column) = zero ? Real(0) : rho(i); });
+}
+
+// f(i) += fr(i) (the pair forces of packed rows).
+template <int D, class Real, class Exec>
+void add_packed_forces(const mdpd::PackedRows<Real, Exec>& fr,
+                       const typename Particles<D, Real, Exec>::vector_view& f) {
+  Kokkos::parallel_for(
+      "mesoflow::pillars::watchdog_add_pair_forces", Kokkos::RangePolicy<Exec>(0, f.extent(0)), KOKKOS_LAMBDA(int i) {
+        for (int d = 0; d < D; ++d) f(i, d) += fr(i, d);
+      });
+}
+
+// The pair terms of an MDPD system evaluated alone (see above).
+template <int D, class Real, class Exec>
+struct MdpdTermsAlone {
+  using System = mdpd::MdpdSystem<D, Real, Exec>;
+  using Rows = mdpd::PackedRows<Real, Exec>;
+
+  static mdpd::MdpdParameters only(mdpd::MdpdParameters p, bool conservative, bool thermostat) {
+    if (!conservative) p.A = p.B = 0;
+    if (!thermostat) p.R = 0;
+    return p;
+  }
+
+  MdpdTermsAlone(const System& sys, std::uint64_t seed)
+      : conservative(only(sys.parameters(), true, false), seed, Real(sys.options().wca_epsilon),
+                     Real(sys.options().wca_sigma)),
+        thermostat(only(sys.parameters(), false, true), seed, Real(sys.options().wca_epsilon),
+                   Real(sys.options().wca_sigma)),
+        core(only(sys.parameters(), false, false), seed, Real(sys.options().wca_epsilon),
+             Real(sys.options().wca_sigma)),
+        density(mdpd::DensityWeight<D, Real>(sys.parameters().density_kernel, Real(sys.parameters().r_B))),
+        xr("mesoflow::pillars::watchdog_xr", sys.particles.size()),
+        vr("mesoflow::pillars::watchdog_vr", sys.particles.size()),
+        fr("mesoflow::pillars::watchdog_fr", sys.particles.size()),
+        rho("mesoflow::pillars::watchdog_rho", sys.particles.size()) {}
+
+  // f ← the pair force of `term` alone at the current state.
+  void evaluate(System& sys, mdpd::MdpdPairForce<D, Real, Exec>& term, bool with_density, bool with_core) {
+    const auto& p = sys.particles;
+    mdpd::pack_vectors<D, Real, Exec>(p.x, xr);
+    mdpd::pack_vectors<D, Real, Exec>(p.v, vr);
+    if (with_density) density.compute(xr, sys.neighbor_list(), sys.box(), rho);
+    set_density_column(xr, with_density ? rho : Kokkos::View<Real*, Exec>());
+    term.compute(xr, vr, p.type, sys.tag, sys.neighbor_list(), sys.box(), sys.current_step(), with_core, fr);
+    p.zero_forces();
+    add_packed_forces<D, Real, Exec>(fr, p.f);
+  }
+
+  mdpd::MdpdPairForce<D, Real, Exec> conservative, thermostat, core;
+  mdpd::LocalDensity<D, Real, Exec> density;
+  Rows xr, vr, fr;
+  Kokkos::View<Real*, Exec> rho;
+};
+
+// The view; `seed` is the one the system was made with (the pair noise), `split` the viscosity
+// mode's force. The system must have begun (or resumed) and must outlive the returned value.
+template <int D, class Real, class Exec>
+watchdog::Watched watched(mdpd::MdpdSystem<D, Real, Exec>& sys, std::uint64_t seed,
+                          const mdpd::SplitBodyForce<Real>& split = {}) {
+  using System = mdpd::MdpdSystem<D, Real, Exec>;
+  auto& p = sys.particles;
+  watchdog::Watched w = watchdog::watch_particles(p);
+  w.state.insert(w.state.end(), {watchdog::Field::of("mass", p.mass), watchdog::Field::of("tether site", sys.site),
+                                 watchdog::Field::kept("type", p.type), watchdog::Field::kept("pillar", p.body),
+                                 watchdog::Field::kept("tag", sys.tag)});
+  w.step = [&sys] { sys.step(); };
+  w.steps = [&sys] { return (long long)sys.current_step(); };
+  w.set_steps = [](long long) {};  // the counters are restored with the list, in after_restore
+  struct Kept {
+    typename System::Counters counters{};
+    typename System::vector_view reference;
+  };
+  auto kept = std::make_shared<Kept>();
+  kept->reference = typename System::vector_view(
+      Kokkos::view_alloc(Kokkos::WithoutInitializing, "mesoflow::pillars::watchdog_reference"), p.size());
+  w.save_host = [&sys, kept] {
+    kept->counters = sys.counters();
+    copy_field(kept->reference, sys.neighbor_reference_positions(), "mesoflow::watchdog::save");
+  };
+  w.after_restore = [&sys, kept] { sys.resume(kept->counters, kept->reference); };
+  auto alone = std::make_shared<MdpdTermsAlone<D, Real, Exec>>(sys, seed);
+  w.terms = {{"MDPD conservative force A, B (eq. 9a)",
+              [&sys, alone] { alone->evaluate(sys, alone->conservative, true, false); }},
+             {"MDPD dissipative and random forces D, R (eqs. 9b-c)",
+              [&sys, alone] { alone->evaluate(sys, alone->thermostat, false, false); }, true}};
+  if (sys.has_core())
+    w.terms.push_back(
+        {"WCA repulsion of solid cores", [&sys, alone] { alone->evaluate(sys, alone->core, false, true); }});
+  if (sys.has_solids()) {
+    const mdpd::TetherSprings<D, Real, Exec> tethers(Real(sys.options().k_S));
+    w.terms.push_back({"tether springs k_S", [&sys, tethers] {
+                         sys.particles.zero_forces();
+                         tethers.accumulate(sys.particles, sys.site, sys.box());
+                       }});
+  }
+  if (sys.driving_region().active())
+    w.terms.push_back({"driving force f_b", [&sys] {
+                         sys.particles.zero_forces();
+                         mdpd::add_region_body_force(sys.particles, sys.driving_region(), sys.box());
+                       }});
+  if (split.active())
+    w.terms.push_back({"split Poiseuille force", [&sys, split] {
+                         sys.particles.zero_forces();
+                         mdpd::add_split_body_force(sys.particles, split, sys.box());
+                       }});
+  const auto tag = sys.tag;
+  const auto type = p.type, body = p.body;
+  w.particle = [tag, type, body](long long i) {
+    std::uint32_t t = 0;
+    int k = 0, b = -1;
+    Kokkos::deep_copy(t, Kokkos::subview(tag, i));
+    Kokkos::deep_copy(k, Kokkos::subview(type, i));
+    Kokkos::deep_copy(b, Kokkos::subview(body, i));
+    const std::string kind = k == mdpd::particle_type::fluid ? "fluid"
+                             : std::string(k == mdpd::particle_type::solid_core ? "solid core" : "solid") +
+                                   (b >= 0 ? " of pillar " + std::to_string(b) : " of a wall");
+    return "particle " + std::to_string(t) + " (" + kind + ", stored at " + std::to_string(i) + ")";
+  };
+  return w;
 }
 
 }  // namespace mesoflow::pillars

@@ -30,7 +30,14 @@
 // Checkpoints (flow mode): every --checkpoint-every steps after carving, <out>.ckpt.h5 is replaced
 // atomically by the whole state (particles, tags, tether sites, the list's reference positions and
 // the accumulated samples); --restart continues from it bit-identically at the same thread count.
-// Only --steps, --checkpoint-every and --threads may differ from the interrupted run.
+// Only --steps, --checkpoint-every, --check-every and --threads may differ from the interrupted run.
+//
+// NaN watchdog (drivers/common/nan_watchdog.hpp, pillars::watched in pillar_scene.hpp): every
+// --check-every steps, and before every sample, the final frame and every checkpoint, positions,
+// velocities, forces, masses and tether sites are checked; a non-finite value stops the run with
+// exit status 1 and a message naming the particle (by tag), the force term and the step, before
+// anything is written from the bad state (the checkpoint on disk stays the last good one). The
+// equilibration and the viscosity mode are watched the same way.
 //
 // Output (<out> = --output without extension): <out>.h5 (H5MD: final frame with particle types,
 // observables per sample, parameters), <out>.xdmf, <out>_profile.csv (per bin: z, fluid count,
@@ -82,6 +89,7 @@ struct Parameters {
   long long seed = 2023;
   int threads = 0;
   long long checkpoint_every = 10000;
+  long long check_every = 100;  // steps between NaN-watchdog checks
   bool restart = false;
   bool force_dt = false;  // --force-dt
 };
@@ -89,7 +97,8 @@ struct Parameters {
 // The parameters a restart must share with the run it continues, as a string kept in the
 // checkpoint: all but the run length, the checkpoint interval, the threads and the output options.
 std::string scene_signature(const cli::DriverApp& app) {
-  const std::set<std::string> may_change = {"steps", "checkpoint-every", "threads", "restart", "quiet", "output"};
+  const std::set<std::string> may_change = {"steps",   "checkpoint-every", "check-every", "threads",
+                                            "restart", "quiet",            "output"};
   std::string s;
   for (const auto& [key, value] : app.resolved_parameters())
     if (may_change.count(key) == 0) s += key + "=" + value + " ";
@@ -214,7 +223,7 @@ void run_flow(const Parameters& par, const cli::DriverApp& app) {
     const std::string stored = ck.get_string("scene");
     if (stored != scene_signature(app))
       throw std::invalid_argument("--restart: " + out.checkpoint + " was written by another scene (" + stored +
-                                  "); only --steps, --checkpoint-every and --threads may change");
+                                  "); only --steps, --checkpoint-every, --check-every and --threads may change");
     std::vector<Real> data;
     std::vector<int> ints;
     std::vector<std::int64_t> tags;
@@ -266,7 +275,14 @@ void run_flow(const Parameters& par, const cli::DriverApp& app) {
   } else {
     pillars::fill_fluid(sys, g, par.density, std::uint64_t(par.seed));
     sys.begin();
-    for (long long s = 0; s < par.equilibrate_steps; ++s) sys.step();
+    {
+      watchdog::NanWatchdog watch(pillars::watched(sys, std::uint64_t(par.seed)), par.check_every);
+      for (long long s = 0; s < par.equilibrate_steps; ++s) {
+        sys.step();
+        watch.after_step();
+      }
+      watch.check();  // the carving reads the equilibrated positions
+    }
     solids = pillars::carve_solids(sys, g);
     sys.begin(sys.current_step());
     h5.emplace(out.trajectory, "mesoflow", MESOFLOW_VERSION, "mesoflow pillars");
@@ -344,12 +360,17 @@ void run_flow(const Parameters& par, const cli::DriverApp& app) {
 
   const long long total = par.warmup_steps + par.steps;
   const long long first = done;
+  // Checked every --check-every steps and before every sample, the final frame and every
+  // checkpoint: nothing is written from a non-finite state.
+  watchdog::NanWatchdog watch(pillars::watched(sys, std::uint64_t(par.seed)), par.check_every);
   cli::ProgressLine progress(total - first, int(sys.particles.size()), !quiet);
   while (done < total) {
     const bool production = done >= par.warmup_steps;
     const bool sample = production && (done - par.warmup_steps + 1) % par.sample_every == 0;
     sys.step(sample);
     ++done;
+    watch.after_step();
+    if (sample || done == total || done % par.checkpoint_every == 0) watch.check();
     if (sample) {
       const auto fs = pillars::sample_flow(sys, g, pillar_x, x_lo, x_hi, bins);
       double c = 0, u = 0;
@@ -558,14 +579,22 @@ void run_viscosity(const Parameters& par, const cli::DriverApp& app) {
   mdpd::MdpdSystem<D, Real, Exec> sys(mp, box, std::uint64_t(par.seed), opt);
   pillars::fill_fluid(sys, geometry, par.density, std::uint64_t(par.seed));
   sys.begin();
-  for (long long s = 0; s < par.equilibrate_steps; ++s) sys.step();
+  {
+    watchdog::NanWatchdog watch(pillars::watched(sys, std::uint64_t(par.seed)), par.check_every);
+    for (long long s = 0; s < par.equilibrate_steps; ++s) {
+      sys.step();
+      watch.after_step();
+    }
+  }
   sys.set_split_force({Real(g_force)});
+  watchdog::NanWatchdog watch(pillars::watched(sys, std::uint64_t(par.seed), {Real(g_force)}), par.check_every);
   const int bins = std::max(4, int(std::lround(Lzz / par.bin_width)) / 2 * 2);
   constexpr int NB = pillars::max_profile_bins;
   if (bins > NB) throw std::invalid_argument("--lz / --bin-width gives too many bins (at most 64)");
   cli::ProgressLine progress(par.warmup_steps + par.steps, int(sys.particles.size()), !app.quiet());
   for (long long s = 0; s < par.warmup_steps; ++s) {
     sys.step();
+    watch.after_step();
     progress.update(s + 1);
   }
   std::vector<double> count(bins, 0), velocity(bins, 0);
@@ -575,7 +604,9 @@ void run_viscosity(const Parameters& par, const cli::DriverApp& app) {
   const auto v = sys.particles.v;
   for (long long s = 0; s < par.steps; ++s) {
     sys.step();
+    watch.after_step();
     if ((s + 1) % par.sample_every == 0) {
+      watch.check();  // no sample from a non-finite state
       const double bw = Lzz / bins;
       const auto sums = parallel_sum<2 * NB, Exec>(
           "mesoflow::pillars::viscosity_profile", int(sys.particles.size()), KOKKOS_LAMBDA(int i, double(&acc)[2 * NB]) {
@@ -703,6 +734,9 @@ int main(int argc, char** argv) {
   app.add_int("--checkpoint-every", par.checkpoint_every, "flow mode: steps between checkpoints (<out>.ckpt.h5)", 1,
               1000000000LL);
   app.add_flag("--restart", par.restart, "flow mode: continue the interrupted run from <out>.ckpt.h5");
+  app.add_int("--check-every", par.check_every,
+              "steps between NaN-watchdog checks (a non-finite state stops the run, naming particle, term and step)",
+              1, 1000000);
   return app.run(argc, argv, [&] {
     if (par.mode != "theory") mesoflow::check_time_step(par);
     mesoflow::KokkosScope kokkos(par.threads);

@@ -175,6 +175,29 @@ class SphSystem {
   const TaitEquationOfState<Real>& equation_of_state() const { return eos_; }
   const Box<D, Real>& box() const { return box_; }
   const NeighborList<D, Real, ExecSpace>& neighbor_list() const { return *list_; }
+
+  // Counters that, with the per-particle arrays (x, v, f, ρ, ρ̇, mass, μ, ū, type, body, wall
+  // geometry) and the list's reference positions, make up the state a bit-identical continuation
+  // needs (the NaN watchdog's replay; MdpdSystem has the same pair).
+  struct Counters {
+    long long step;
+    int builds_since_sort, num_sorts;
+  };
+  Counters counters() const { return {step_, builds_since_sort_, num_sorts_}; }
+  vector_view neighbor_reference_positions() const { return list_->reference_positions(); }
+
+  // Continues from a saved state: the arrays hold the saved values (ρ̇, f and ū those of the saved
+  // step, not recomputed); the list is rebuilt from its saved reference positions, so it has the
+  // same rows, and the next rebuild and sort come at the same steps, as when the state was saved.
+  void resume(const Counters& c, const vector_view& reference) {
+    Particles<D, Real, ExecSpace> at_reference = particles;
+    at_reference.x = reference;
+    list_->build(at_reference, box_);
+    step_ = c.step;
+    builds_since_sort_ = c.builds_since_sort;
+    num_sorts_ = c.num_sorts;
+  }
+
   Real dt() const { return integrator_.dt(); }
   long long current_step() const { return step_; }
   int num_sorts() const { return num_sorts_; }

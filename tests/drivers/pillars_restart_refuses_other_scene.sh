@@ -13,7 +13,7 @@ status=0
 err=$("$exe" "${args[@]}" --steps 200 --porosity 0.7 --restart 2>&1 >/dev/null)
 code=$?
 echo "--porosity 0.7 -> exit $code: $err"
-[ $code -eq 2 ] && grep -qE -- "written by another scene.*only --steps, --checkpoint-every and --threads may change" <<<"$err" ||
+[ $code -eq 2 ] && grep -qE -- "written by another scene.*only --steps, --checkpoint-every, --check-every and --threads may change" <<<"$err" ||
   { echo "FAIL: expected exit 2 naming the parameters that may change"; status=1; }
 [ "$before" = "$(md5sum "$dir/run.ckpt.h5" "$dir/run.h5")" ] || { echo "FAIL: the output was modified"; status=1; }
 "$exe" "${args[@]}" --porosity 0.8 --steps 200 --restart || { echo "FAIL: extending --steps was refused"; status=1; }
