@@ -8,8 +8,10 @@ in double the error falls strictly from the coarsest to the finest level of each
 Levels are ordered by COLUMN ascending (finest = largest, e.g. N_v), or descending with ":desc"
 (finest = smallest, e.g. the time-step factor). A sweep given as SWEEP:COLUMN:ORDER:noise is one
 whose effect is expected below the statistical error of a stochastic observable (the hopper's Q
-over Δt): there every error must instead lie within 4 of its error_sigma column. Exit status 1
-naming the first failure.
+over Δt): there every error must instead lie within 4 of its error_sigma column. A sweep given as
+SWEEP:COLUMN:ORDER:resolved is one with a real effect whose intermediate levels may lie within the
+noise of one another (the DP hopper's Q over K_b): there only the coarsest level's error must
+exceed 3 × its error_sigma. Exit status 1 naming the first failure.
 """
 import argparse
 import csv
@@ -64,6 +66,14 @@ def main():
                     fail(f"sweep {sweep}: {column} = {r[column]}: error {r[a.error]} exceeds 4 × its statistical "
                          f"error {r['error_sigma']}")
             print(f"check_tradeoff: {sweep}: double errors {', '.join(f'{e:.3g}' for e in errors)} within 4σ")
+            continue
+        if len(spec) > 3 and spec[3] == "resolved":
+            coarse = d[0]
+            if not float(coarse[a.error]) > 3 * float(coarse["error_sigma"]):
+                fail(f"sweep {sweep}: the coarsest level {column} = {coarse[column]} has error {coarse[a.error]}, "
+                     f"not above 3 × its statistical error {coarse['error_sigma']}: the sweep resolves nothing")
+            print(f"check_tradeoff: {sweep}: coarsest error {float(coarse[a.error]):.3g} > 3 × its σ "
+                  f"{float(coarse['error_sigma']):.3g}")
             continue
         for k in range(len(errors) - 1):
             if not errors[k] > errors[k + 1]:

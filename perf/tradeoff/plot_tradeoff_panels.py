@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Log-log trade-off plot of a perf/tradeoff CSV (droplet, hopper): cost per unit physical time
+"""Log-log trade-off plot of a perf/tradeoff CSV (droplet, SP and DP hopper): cost per unit physical time
 against the error of the model's observable versus the converged reference, one panel per sweep,
 double (filled) and float (open) marked, each point labelled with its sweep parameter.
 
@@ -35,6 +35,10 @@ def label_of(column, value):
         return f"Δt={v:.2g}"
     if column == "pair_energy":
         return f"E_sp={v:g}"
+    if column == "bending_stiffness":
+        return f"K_b={v:g}"
+    if column == "perimeter_stiffness":
+        return f"K_l={v:g}"
     return f"{column}={v:g}"
 
 
@@ -85,7 +89,11 @@ def main():
         ax.set_ylabel(a.cost_label)
         ax.grid(True, which="both", alpha=0.3)
         ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
-        ax.yaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
+        costs = [float(r[a.cost]) for r in sel if float(r[a.cost]) > 0]
+        if costs and max(costs) < 10 * min(costs):  # less than a decade: label the minor ticks, or none shows
+            ax.yaxis.set_minor_formatter(matplotlib.ticker.FuncFormatter(lambda v, _: f"{v:.2g}"))
+        else:
+            ax.yaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
         ax.legend(fontsize=8)
     fig.tight_layout()
     fig.savefig(a.png, dpi=120)

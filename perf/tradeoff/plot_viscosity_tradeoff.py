@@ -4,7 +4,7 @@ the relative error of the observable, double filled and float open, colour by on
 marker by the other. Errors within 2 standard errors of zero are drawn at 2σ as upper limits (▼);
 unstable runs (no finite error) and MDPD's references (error 0 by definition) are left out.
 
-    plot_viscosity_tradeoff.py {mpc|mdpd} CSV PNG
+    plot_viscosity_tradeoff.py {mpc|mdpd|mdpd_permeability} CSV PNG
 """
 import csv
 import math
@@ -21,6 +21,9 @@ MODELS = {
                                  ("rel_err_ref", "rel_err_b3_stderr", "η/η_B3 against the finest double run")]),
     "mdpd": ("half_width", "L/2 (r_A)", "dt", "dt", [("rel_err_ref", "rel_err_ref_stderr",
                                                       "η against the finest double run")]),
+    "mdpd_permeability": ("diameter", "d (r_A)", "dt", "dt",
+                          [("rel_err_ref", "rel_err_ref_stderr", "κ/d² against the finest double run"),
+                           ("rel_err_exact", "rel_err_exact_stderr", "κ/d² against Sangani–Acrivos (exact Stokes)")]),
 }
 MARKERS = "osD^P*Xh"  # (▼ marks upper limits)
 
