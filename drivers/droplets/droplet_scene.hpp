@@ -26,15 +26,19 @@
 #include "kernels/dp/polygons.hpp"
 #include "kernels/dp/segment_spring_force.hpp"
 #include "kernels/dp/shape_forces.hpp"
+#include "kernels/dp/shape_stiffness.hpp"
 #include "drivers/common/nan_watchdog.hpp"
 #include "drivers/common/time_step_limit.hpp"
 #include "kernels/dp/stability.hpp"
 #include "kernels/dp/vertex_wall_repulsion.hpp"
 
 #include <cmath>
+#include <iostream>
 #include <optional>
+#include <sstream>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace mesoflow::droplets {
@@ -90,7 +94,8 @@ constexpr double drag_distance_floor = 0.01;  // σ; smallest d_i in eq. 6 (near
 
 // The explicit stability limit of a droplet with these parameters (kernels/dp/stability.hpp);
 // `with_surfaces`: walls or obstacles are present, so the repulsion and near-wall drag act.
-inline dp::StabilityLimit droplet_stability(const DropletParameters& par, bool with_surfaces) {
+// The stiffness inputs of kernels/dp/stability.hpp for the droplets of `par`.
+inline dp::StiffnessInputs droplet_stiffness(const DropletParameters& par, bool with_surfaces) {
   const double l0 = dp::regular_polygon_edge(droplet_area, par.vertices);
   const double b_inf = droplet_mass / par.terminal_speed;
   dp::StiffnessInputs s;
@@ -106,8 +111,19 @@ inline dp::StabilityLimit droplet_stability(const DropletParameters& par, bool w
   s.bending_stiffness = par.bending_stiffness;
   const double near = with_surfaces ? par.near_wall_drag * std::pow(1.0 / drag_distance_floor, par.drag_exponent) : 0.0;
   s.max_drag = par.drag ? b_inf * (1 + near) : 0.0;
-  return dp::stability_limit(s);
+  return s;
 }
+
+inline dp::StabilityLimit droplet_stability(const DropletParameters& par, bool with_surfaces) {
+  return dp::stability_limit(droplet_stiffness(par, with_surfaces));
+}
+
+// Thrown by DropletScene::step when the droplets' current shape puts the stability limit below
+// the running Δt (kernels/dp/stability.hpp, stability_limit_for_shape): the run stops before the
+// instability, naming the term, the new limit and the shape that set it.
+struct ShapeTimeStepExceeded : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
 
 // The time step a scene runs with: par.dt if given (refused above the stability limit, naming the
 // term that sets it, unless par.force_dt), else min(10⁻³ t0, limit).
@@ -189,6 +205,46 @@ class DropletScene {
       with_surfaces([&](const auto& q) { accumulate_surface_forces(q, p_, p_.v, repulsion()); });
     vv_.second_half(p_);
     ++steps_;
+    if (steps_ % shape_check_interval == 0) check_shape_time_step();
+  }
+
+  // The stability limit of the droplets' current shape (the static estimate, or stiffer where
+  // unequal edges have stiffened the area mode; kernels/dp/stability.hpp) and the largest
+  // Σ_i |∇_i a|² that set it.
+  std::pair<dp::StabilityLimit, double> shape_stability() const {
+    const double gradient = dp::measure_area_gradient_squared(polygons_, p_);
+    return {dp::stability_limit_for_shape(droplet_stiffness(par_, has_surfaces()), gradient), gradient};
+  }
+
+  // Every shape_check_interval steps: throws ShapeTimeStepExceeded when the area mode of the
+  // current shape, ω_area = √(k_a Σ|∇a|²/m), has ω_area Δt > area_mode_tolerance; with
+  // par.force_dt, warns once on standard error instead. ω_area is the area mode's own frequency
+  // (the mode is rank one; up to k_a (a − a0) ∇²a, small at the K_a of the papers), a lower bound of
+  // the largest frequency of the step, and velocity Verlet turns unstable at ω Δt = 2: the run is
+  // stopped at 0.9 of that. The summed estimate (an upper bound) is not the criterion: droplets
+  // squeezing through an orifice depart far from the regular polygon without blowing up — the Fig. 2
+  // droplet reaches Σ|∇a|² = 11.8 P l0 (ω_area Δt = 1.2, summed 1.5), a floppy one (Γ = 0.01)
+  // 22 P l0 (ω_area Δt = 1.67, summed 1.8) — and both pass.
+  void check_shape_time_step() {
+    const auto [limit, gradient] = shape_stability();
+    const double omega_dt = limit.omega_area * dt_;
+    if (!(omega_dt > area_mode_tolerance)) return;
+    std::ostringstream m;
+    m.precision(4);
+    m << "droplet scene: at step " << steps_ << " (t = " << time()
+      << " t0) the droplets' edges have become so unequal (largest sum |grad a|^2 = "
+      << gradient / (par_.vertices * l0_ * l0_)
+      << " P l0, regular polygon: 1) that the area elasticity K_a mode has omega = " << limit.omega_area << "/t0, omega dt = " << omega_dt << " > " << area_mode_tolerance
+      << " at dt = " << dt_ << " (velocity Verlet is unstable at 2); the stability limit of this shape is "
+      << limit.max_dt() << " t0";
+    if (par_.force_dt) {
+      if (!shape_warned_) std::cerr << "warning: " << m.str() << "; running on (" << cli::force_dt_flag << ")\n";
+      shape_warned_ = true;
+      return;
+    }
+    m << "; the run stopped before the instability: run it with a smaller --dt (or " << cli::force_dt_flag
+      << " to go on)";
+    throw ShapeTimeStepExceeded(m.str());
   }
 
   // f ← −∇U (shape, gravity if on, walls) at the current positions; returns U.
@@ -358,7 +414,10 @@ class DropletScene {
   Vec<2, Real> gravity_;
   std::optional<BodyObstacleList<Real, ExecSpace>> candidates_;  // with obstacles only
   long long steps_ = 0;
+  bool shape_warned_ = false;
   static constexpr double candidate_skin = 0.5;  // σ
+  static constexpr long long shape_check_interval = 100;
+  static constexpr double area_mode_tolerance = 1.8;
 };
 
 }  // namespace mesoflow::droplets

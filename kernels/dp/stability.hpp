@@ -19,7 +19,9 @@
 // at the distance floor of the near-wall term, and explicit drag wants ν Δt ≤ 1.
 // DropletScene refuses a Δt above the limit and chooses min(10⁻³ t0, limit) when none is given;
 // tests/dp/test_stability.cpp checks that a run at the limit stays bounded where the paper's
-// parameters would blow up.
+// parameters would blow up. The area mode depends on the shape, which a run changes:
+// stability_limit_for_shape re-evaluates it on the measured shape (shape_stiffness.hpp), and
+// DropletScene stops a run whose Δt the current shape no longer allows.
 #pragma once
 
 #include <algorithm>
@@ -84,6 +86,16 @@ inline StabilityLimit stability_limit(const StiffnessInputs& s) {
   r.omega_area = std::sqrt(s.area_stiffness * s.perimeter * s.edge_length / m);
   r.omega_bending = std::sqrt(16 * s.bending_stiffness / (s.edge_length * s.edge_length * m));
   r.drag_rate = s.max_drag / (s.vertices * m);
+  return r;
+}
+
+// The limit for the current shape: the area mode with the measured largest Σ_i |∇_i a|²
+// (shape_stiffness.hpp) where it exceeds the static estimate's P l0, so the result never exceeds
+// stability_limit(s).
+inline StabilityLimit stability_limit_for_shape(const StiffnessInputs& s, double area_gradient_squared) {
+  StabilityLimit r = stability_limit(s);
+  if (area_gradient_squared > s.perimeter * s.edge_length)
+    r.omega_area = std::sqrt(s.area_stiffness * area_gradient_squared / s.vertex_mass);
   return r;
 }
 

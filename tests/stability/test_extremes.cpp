@@ -77,8 +77,11 @@ class DpExtremes : public ::testing::TestWithParam<DpCorner> {};
 // Bounds: |E − E0| < 2·10⁻³ Mgσ (velocity Verlet at the limit's Δt: the error is second order in
 // Δt ω; measured ≤ 5.5·10⁻⁴ at Γ = 10, ≤ 2.4·10⁻⁶ elsewhere); |A/a0 − 1| < 4(1 + 2Γ)/K_a: the area
 // term holds the area to the pressure (the Laplace pressure 2Γ/σ, the impact ~Mg/σ) over K_a
-// (measured 5.1·10⁻³ at Γ = 10, 1.7·10⁻⁴ at E_w = 10⁴, 1.1·10⁻⁶ at K_a = 10⁶; the full set
-// finds more, docs/stability.md).
+// (measured 5.1·10⁻³ at Γ = 10, 1.7·10⁻⁴ at E_w = 10⁴, 1.1·10⁻⁶ at K_a = 10⁶).
+// Without drag the weak segment springs let the vertices slide along the interface, so the shape's
+// own stability limit falls during the longer runs (kernels/dp/shape_stiffness.hpp); the scene then
+// stops the run (ShapeTimeStepExceeded) naming the term. Either the run finishes, or it is stopped
+// that way: in both cases the bounds must hold over every step it ran (docs/stability.md).
 TEST_P(DpExtremes, FallsOntoAWallFiniteConservingEnergyAndArea) {
   const DpCorner c = GetParam();
   droplets::DropletParameters par;
@@ -94,21 +97,34 @@ TEST_P(DpExtremes, FallsOntoAWallFiniteConservingEnergyAndArea) {
   const double e0 = scene.total_energy(), mg_sigma = droplets::droplet_mass;
   const int steps = int(std::lround(0.3 * length_factor / scene.dt()));
   double drift = 0, area = 0, lowest = HUGE_VAL;
+  std::string stopped;
+  const auto sample = [&] {
+    drift = std::max(drift, std::abs(scene.total_energy() - e0) / mg_sigma);
+    const auto o = scene.observables();
+    area = std::max(area, std::abs(o.area[0] / droplets::droplet_area - 1));
+    lowest = std::min(lowest, o.com[0][1]);
+  };
   const int every = std::max(1, steps / 200);
   for (int s = 1; s <= steps; ++s) {
-    scene.step();
-    if (s % every == 0) {
-      drift = std::max(drift, std::abs(scene.total_energy() - e0) / mg_sigma);
-      const auto o = scene.observables();
-      area = std::max(area, std::abs(o.area[0] / droplets::droplet_area - 1));
-      lowest = std::min(lowest, o.com[0][1]);
+    try {
+      scene.step();
+    } catch (const droplets::ShapeTimeStepExceeded& e) {
+      stopped = e.what();
+      sample();
+      break;
     }
+    if (s % every == 0) sample();
   }
-  std::printf("[ dp %s ] Γ = %g, K_a = %g, E_w = %g: Δt = %.3g (%s), %d steps: max |ΔE|/Mgσ = %.2e, max |A/a0 - 1| = "
-              "%.2e, lowest centre %.4fσ\n",
+  std::printf("[ dp %s ] Γ = %g, K_a = %g, E_w = %g: Δt = %.3g (%s), %lld of %d steps%s: max |ΔE|/Mgσ = %.2e, "
+              "max |A/a0 - 1| = %.2e, lowest centre %.4fσ\n%s%s",
               c.name, c.line_tension, c.area_stiffness, c.wall_energy, scene.dt(),
-              droplets::droplet_stability(par, true).limiting_term().c_str(), steps, drift, area, lowest);
+              droplets::droplet_stability(par, true).limiting_term().c_str(), scene.steps(), steps,
+              stopped.empty() ? "" : " (stopped by the shape check)", drift, area, lowest, stopped.c_str(),
+              stopped.empty() ? "" : "\n");
   ASSERT_TRUE(all_finite(scene.particles().x) && all_finite(scene.particles().v));
+  if (!stopped.empty()) {
+    EXPECT_NE(stopped.find("stability limit"), std::string::npos) << stopped;
+  }
   EXPECT_LT(lowest, 0.5 + 0.5 * l0);  // it reached the wall
   EXPECT_GT(lowest, 0.0);             // and did not go through it
   EXPECT_LT(drift, 2e-3);

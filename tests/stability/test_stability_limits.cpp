@@ -4,6 +4,8 @@
 // paper's parameters, a run just below it stays bounded and, where cheap, a run well above it
 // blows up — so the limit is an estimate with a margin, not a number chosen to pass.
 #include "drivers/common/time_step_limit.hpp"
+#include "drivers/droplets/deformation.hpp"
+#include "drivers/droplets/droplet_scene.hpp"
 #include "drivers/hopper/hopper_scene.hpp"
 #include "kernels/common/fire.hpp"
 #include "kernels/common/lennard_jones.hpp"
@@ -13,6 +15,9 @@
 #include "kernels/common/random.hpp"
 #include "kernels/common/reductions.hpp"
 #include "kernels/common/velocity_verlet.hpp"
+#include "kernels/dp/polygons.hpp"
+#include "kernels/dp/shape_stiffness.hpp"
+#include "kernels/dp/stability.hpp"
 #include "kernels/mdpd/mdpd_system.hpp"
 #include "kernels/mdpd/stability.hpp"
 #include "kernels/mpc/channel_flow.hpp"
@@ -20,6 +25,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <iostream>
 #include <random>
@@ -344,6 +350,133 @@ TEST(HopperStability, NamesThePairWallFrictionOrDragTerm) {
   par.drag = 1e4;
   EXPECT_NE(par.stability_limit(2).term.find("drag ζ"), std::string::npos);
   EXPECT_DOUBLE_EQ(par.stability_limit(2).max_dt, 2e-4);
+}
+
+// ---------------------------------------------------------------------------------------------
+// DP droplets: the limit of the current shape (kernels/dp/shape_stiffness.hpp) and the scene's
+// check of it (DropletScene::check_shape_time_step).
+
+// Shoelace area of the polygon `xs` (host).
+double polygon_area(const std::vector<std::array<double, 2>>& xs) {
+  double a = 0;
+  for (std::size_t i = 0; i < xs.size(); ++i) {
+    const auto& p = xs[i];
+    const auto& q = xs[(i + 1) % xs.size()];
+    a += p[0] * q[1] - q[0] * p[1];
+  }
+  return 0.5 * a;
+}
+
+// Two bodies (N_v = 12 and 40), each a circle of radius 0.5 with vertices at random angles and
+// radii: Σ_i |∇_i a|² of each body by central differences of the shoelace area (step 10⁻⁶), the
+// largest over the bodies, against measure_area_gradient_squared.
+TEST(DpShapeStability, MeasuredStiffnessMatchesFiniteDifferencesOfTheArea) {
+  const std::vector<int> counts{12, 40};
+  auto polygons = dp::Polygons<double, Exec>::from_vertex_counts(counts, {0.785, 0.785}, {0.26, 0.08});
+  Particles<2, double, Exec> p(52);
+  auto x = Kokkos::create_mirror_view(p.x);
+  std::mt19937 gen(5);
+  std::uniform_real_distribution<double> jitter(-0.3, 0.3);
+  std::vector<std::vector<std::array<double, 2>>> bodies;
+  int row = 0;
+  for (const int n : counts) {
+    std::vector<std::array<double, 2>> xs;
+    for (int k = 0; k < n; ++k) {
+      const double angle = 2 * dp::pi * (k + jitter(gen)) / n, radius = 0.5 * (1 + jitter(gen));
+      xs.push_back({radius * std::cos(angle) + 3.0 * row, radius * std::sin(angle)});
+      x(row == 0 ? k : counts[0] + k, 0) = xs.back()[0];
+      x(row == 0 ? k : counts[0] + k, 1) = xs.back()[1];
+    }
+    bodies.push_back(xs);
+    ++row;
+  }
+  Kokkos::deep_copy(p.x, x);
+  double largest = 0;
+  for (auto xs : bodies) {
+    double sum = 0;
+    for (std::size_t i = 0; i < xs.size(); ++i) {
+      for (int d = 0; d < 2; ++d) {
+        const double h = 1e-6, keep = xs[i][d];
+        xs[i][d] = keep + h;
+        const double up = polygon_area(xs);
+        xs[i][d] = keep - h;
+        const double down = polygon_area(xs);
+        xs[i][d] = keep;
+        sum += std::pow((up - down) / (2 * h), 2);
+      }
+    }
+    largest = std::max(largest, sum);
+  }
+  EXPECT_NEAR(dp::measure_area_gradient_squared(polygons, p), largest, 1e-6 * largest);
+}
+
+// The shape's limit equals the static one for the regular polygon and shrinks as derived when the
+// measured Σ|∇a|² exceeds P l0 (ω_area ∝ √Σ|∇a|²); it never exceeds the static limit.
+TEST(DpShapeStability, LimitForShapeFollowsTheAreaGradient) {
+  dp::StiffnessInputs s{};
+  s.vertex_mass = 0.785 / 64;
+  s.edge_length = 0.049;
+  s.perimeter = 64 * s.edge_length;
+  s.vertices = 64;
+  s.line_tension = 0.16;
+  s.area_stiffness = 1e6;
+  s.wall_energy = 0.05;
+  s.vertex_diameter = s.edge_length;
+  const auto fixed = dp::stability_limit(s);
+  const double p_l0 = s.perimeter * s.edge_length;
+  const auto regular = dp::stability_limit_for_shape(s, 0.998 * p_l0);
+  EXPECT_DOUBLE_EQ(regular.max_dt(), fixed.max_dt());
+  const auto stretched = dp::stability_limit_for_shape(s, 4 * p_l0);
+  EXPECT_NEAR(stretched.omega_area, 2 * fixed.omega_area, 1e-9 * fixed.omega_area);
+  EXPECT_LT(stretched.max_dt(), 0.51 * fixed.max_dt());
+  EXPECT_NE(stretched.limiting_term().find("area elasticity K_a"), std::string::npos);
+}
+
+// The K_a = 10⁶ corner of tests/stability/test_extremes.cpp (N_v = 64, Γ = 0.16, K_l/Γ = 10⁻³, no
+// drag, resting on a wall at the static limit's Δt): its vertices slide down the interface and
+// Σ|∇a|² grows, 2.3 P l0 after 1.5 t0, 3.9 P l0 at 2.4 t0 where the run blows up. The scene stops it
+// at the first check where Δt exceeds 1.8 × the shape's limit, naming the area term, while the
+// energy is still conserved; forced on (--force-dt), the same run loses energy conservation —
+// the check stops a run that would have gone wrong.
+double stiff_area_droplet_drift(bool force, std::string& stopped) {
+  droplets::DropletParameters par;
+  par.vertices = 64;
+  par.line_tension = 0.16;
+  par.perimeter_stiffness = 1.6e-4;
+  par.area_stiffness = 1e6;
+  par.drag = false;
+  par.force_dt = force;
+  const double l0 = dp::regular_polygon_edge(droplets::droplet_area, par.vertices);
+  droplets::DropletScene<double, Exec> scene(par, droplets::deformation_detail::flat_wall(),
+                                             {Vec<2, double>{{0.0, 0.5 + 0.5 * l0 + 0.02}}});
+  const double e0 = scene.total_energy();
+  double drift = 0;
+  const long long steps = std::lround(3.0 / scene.dt());
+  try {
+    for (long long s = 1; s <= steps; ++s) {
+      scene.step();
+      if (s % 50 == 0) drift = std::max(drift, std::abs(scene.total_energy() - e0) / droplets::droplet_mass);
+    }
+  } catch (const droplets::ShapeTimeStepExceeded& e) {
+    stopped = e.what();
+    drift = std::max(drift, std::abs(scene.total_energy() - e0) / droplets::droplet_mass);
+  }
+  return drift;
+}
+
+TEST(DropletShapeCheck, StopsAFlatteningStiffDropletBeforeItsAreaModeTurnsUnstable) {
+  std::string stopped;
+  const double drift = stiff_area_droplet_drift(false, stopped);
+  std::cout << "[ stopped ] max |ΔE|/Mgσ = " << drift << ": " << stopped << "\n";
+  ASSERT_FALSE(stopped.empty());
+  EXPECT_NE(stopped.find("area elasticity K_a"), std::string::npos) << stopped;
+  EXPECT_NE(stopped.find("--force-dt"), std::string::npos) << stopped;
+  EXPECT_LT(drift, 1e-5);
+  std::string forced_stop;
+  const double forced = stiff_area_droplet_drift(true, forced_stop);
+  std::cout << "[ forced ] max |ΔE|/Mgσ = " << forced << "\n";
+  EXPECT_TRUE(forced_stop.empty());
+  EXPECT_GT(forced, 1.0);
 }
 
 }  // namespace
