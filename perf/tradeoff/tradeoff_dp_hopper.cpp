@@ -29,6 +29,7 @@
 #include "drivers/hopper/dp_hopper_scene.hpp"
 #include "drivers/hopper/flow_measurement.hpp"
 #include "perf/tradeoff/cost_clock.hpp"
+#include "perf/tradeoff/seed_averaged_flow_rate.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -83,46 +84,28 @@ hopper::DpHopperParameters with_stiffness(const Parameters& par, double k) {
 double limit_dt(const Parameters& par, double k) { return with_stiffness(par, k).stability().max_dt(); }
 double stable_dt(const Parameters& par, double k) { return 0.9 * limit_dt(par, k); }
 
-struct Config {
+struct Config : tradeoff::FlowRateRuns {
   std::string precision;
   double stiffness = 0, dt = 0;
-  double Q = 0, Q_error = 0;  // mean over seeds, its error
-  double flow_time = 0;       // t0 of flow, all seeds
-  tradeoff::Cost cost;        // of the flow, all seeds
-  int clogged = 0, unsteady = 0;
 };
 
 template <class Real>
 Config run_config(const Parameters& par, const char* precision, double k, double dt, bool quiet) {
   Config c;
+  static_cast<tradeoff::FlowRateRuns&>(c) = tradeoff::seed_averaged_flow_rate(
+      par.seeds, par.scene.seed, par.flow,
+      [&](std::uint64_t seed) {
+        hopper::DpHopperParameters p = with_stiffness(par, k);
+        p.dt = dt;
+        p.seed = seed;
+        return hopper::DpHopperScene<Real>(p);
+      },
+      std::string("tradeoff_dp_hopper: ") + precision + " " + stiffness_symbol(par) + " = " + std::to_string(k) +
+          " Δt = " + std::to_string(dt),
+      quiet);
   c.precision = precision;
   c.stiffness = k;
   c.dt = dt;
-  double var = 0;
-  for (int s = 0; s < par.seeds; ++s) {
-    hopper::DpHopperParameters p = with_stiffness(par, k);
-    p.dt = dt;
-    p.seed = par.scene.seed + std::uint64_t(s);
-    hopper::DpHopperScene<Real> scene(p);
-    scene.relax();
-    const double t0 = scene.time();
-    const tradeoff::CostClock clock;
-    const auto r = hopper::measure_flow_rate(scene, par.flow);
-    const auto cost = clock.elapsed();
-    c.cost.wall += cost.wall;
-    c.cost.cpu += cost.cpu;
-    c.flow_time += scene.time() - t0;
-    c.Q += r.Q / par.seeds;
-    var += (std::isfinite(r.Q_error) ? r.Q_error * r.Q_error : 0.0) / (double(par.seeds) * par.seeds);
-    c.clogged += r.clogged;
-    c.unsteady += !r.steady && !r.clogged;
-    if (!quiet)
-      std::cerr << "tradeoff_dp_hopper: " << precision << " " << stiffness_symbol(par) << " = " << k << " Δt = " << dt
-                << " seed " << p.seed << ": Q = " << r.Q << " ± " << r.Q_error
-                << (r.clogged ? " (clogged)" : r.steady ? "" : " (not steady)") << ", " << scene.time() - t0
-                << " t0 of flow in " << cost.wall << " s wall, " << cost.cpu << " s CPU\n";
-  }
-  c.Q_error = std::sqrt(var);
   return c;
 }
 

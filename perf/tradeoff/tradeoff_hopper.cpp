@@ -26,6 +26,7 @@
 #include "drivers/hopper/flow_measurement.hpp"
 #include "drivers/hopper/hopper_scene.hpp"
 #include "perf/tradeoff/cost_clock.hpp"
+#include "perf/tradeoff/seed_averaged_flow_rate.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -65,44 +66,29 @@ double stable_dt(hopper::HopperParameters p, double pair_energy) {
   return 0.9 * p.max_stable_dt(2);
 }
 
-struct Config {
+struct Config : tradeoff::FlowRateRuns {
   std::string precision;
-  double pair_energy, dt;
-  double Q = 0, Q_error = 0;  // mean over seeds, its error
-  double flow_time = 0;       // t0 of flow, all seeds
-  tradeoff::Cost cost;        // of the flow, all seeds
-  int clogged = 0, unsteady = 0;
+  double pair_energy = 0, dt = 0;
 };
 
 template <class Real>
 Config run_config(const Parameters& par, const char* precision, double pair_energy, double dt, bool quiet) {
-  Config c{precision, pair_energy, dt};
-  double var = 0;
-  for (int s = 0; s < par.seeds; ++s) {
-    hopper::HopperParameters p = par.scene;
-    p.pair_energy = pair_energy;
-    p.dt = dt;
-    p.seed = par.scene.seed + std::uint64_t(s);
-    hopper::HopperScene<2, Real> scene(p);
-    scene.relax();
-    const double t0 = scene.time();
-    const tradeoff::CostClock clock;
-    const auto r = hopper::measure_flow_rate(scene, par.flow);
-    const auto cost = clock.elapsed();
-    c.cost.wall += cost.wall;
-    c.cost.cpu += cost.cpu;
-    c.flow_time += scene.time() - t0;
-    c.Q += r.Q / par.seeds;
-    var += (std::isfinite(r.Q_error) ? r.Q_error * r.Q_error : 0.0) / (double(par.seeds) * par.seeds);
-    c.clogged += r.clogged;
-    c.unsteady += !r.steady && !r.clogged;
-    if (!quiet)
-      std::cerr << "tradeoff_hopper: " << precision << " E_sp = " << pair_energy << " Δt = " << dt << " seed " << p.seed
-                << ": Q = " << r.Q << " ± " << r.Q_error << (r.clogged ? " (clogged)" : r.steady ? "" : " (not steady)")
-                << ", " << scene.time() - t0 << " t0 of flow in " << cost.wall << " s wall, " << cost.cpu
-                << " s CPU\n";
-  }
-  c.Q_error = std::sqrt(var);
+  Config c;
+  static_cast<tradeoff::FlowRateRuns&>(c) = tradeoff::seed_averaged_flow_rate(
+      par.seeds, par.scene.seed, par.flow,
+      [&](std::uint64_t seed) {
+        hopper::HopperParameters p = par.scene;
+        p.pair_energy = pair_energy;
+        p.dt = dt;
+        p.seed = seed;
+        return hopper::HopperScene<2, Real>(p);
+      },
+      std::string("tradeoff_hopper: ") + precision + " E_sp = " + std::to_string(pair_energy) + " Δt = " +
+          std::to_string(dt),
+      quiet);
+  c.precision = precision;
+  c.pair_energy = pair_energy;
+  c.dt = dt;
   return c;
 }
 
