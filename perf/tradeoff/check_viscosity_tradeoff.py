@@ -69,6 +69,21 @@ def check_mpc(rows):
     print(f"check_viscosity_tradeoff: mpc: |η/η_B3 − 1| {e3:.3f} (n = 3) → {e40:.4f} (n = 40), cost ×{ratio:.1f}")
 
 
+def check_mdpd_dt_sweep(rows, precision):
+    """The MDPD dt sweep of one precision: dt = 0.02 blew up, and the temperature excess falls from
+    dt = 0.01 to 0.005. Returns the temperature excesses at 0.01 and 0.005."""
+    by_dt = {float(r["dt"]): r for r in rows if r["precision"] == precision and r["sweep"] == "dt"}
+    for dt in (0.02, 0.01, 0.005):
+        if dt not in by_dt:
+            fail(f"no {precision} row at dt = {dt}")
+    if by_dt[0.02]["stable"] != "0":
+        fail(f"{precision}: dt = 0.02 ran stable; the 2D liquid was expected to blow up there")
+    t1, t2 = float(by_dt[0.01]["temperature"]) - 1, float(by_dt[0.005]["temperature"]) - 1
+    if not (abs(t1) > abs(t2) and t1 > 0):
+        fail(f"{precision}: temperature excess does not fall with dt: {t1:+.4f} (0.01) → {t2:+.4f} (0.005)")
+    return t1, t2
+
+
 def check_mdpd(rows):
     for r in rows:
         finite_positive(r, ["wall_s_per_tau", "cpu_s_per_tau"])
@@ -79,15 +94,7 @@ def check_mdpd(rows):
             if abs(float(r["eta"]) / 26.1 - 1) > 0.3:
                 fail(f"η = {r['eta']} is not within 30% of 26.1 in row {r}")
     for precision in ("double", "float"):
-        by_dt = {float(r["dt"]): r for r in rows if r["precision"] == precision and r["sweep"] == "dt"}
-        for dt in (0.02, 0.01, 0.005):
-            if dt not in by_dt:
-                fail(f"no {precision} row at dt = {dt}")
-        if by_dt[0.02]["stable"] != "0":
-            fail(f"{precision}: dt = 0.02 ran stable; the 2D liquid was expected to blow up there")
-        t1, t2 = float(by_dt[0.01]["temperature"]) - 1, float(by_dt[0.005]["temperature"]) - 1
-        if not (abs(t1) > abs(t2) and t1 > 0):
-            fail(f"{precision}: temperature excess does not fall with dt: {t1:+.4f} (0.01) → {t2:+.4f} (0.005)")
+        t1, t2 = check_mdpd_dt_sweep(rows, precision)
         print(f"check_viscosity_tradeoff: mdpd {precision}: T − 1 = {t1:+.4f} (dt 0.01) → {t2:+.4f} (dt 0.005)")
 
 
@@ -100,15 +107,7 @@ def check_mdpd_permeability(rows):
                 if not math.isfinite(float(r[c])):
                     fail(f"{c} = {r[c]} in row {r}")
     for precision in ("double", "float"):
-        by_dt = {float(r["dt"]): r for r in rows if r["precision"] == precision and r["sweep"] == "dt"}
-        for dt in (0.02, 0.01, 0.005):
-            if dt not in by_dt:
-                fail(f"no {precision} row at dt = {dt}")
-        if by_dt[0.02]["stable"] != "0":
-            fail(f"{precision}: dt = 0.02 ran stable; the 2D liquid was expected to blow up there")
-        t1, t2 = float(by_dt[0.01]["temperature"]) - 1, float(by_dt[0.005]["temperature"]) - 1
-        if not (abs(t1) > abs(t2) and t1 > 0):
-            fail(f"{precision}: temperature excess does not fall with dt: {t1:+.4f} (0.01) → {t2:+.4f} (0.005)")
+        t1, t2 = check_mdpd_dt_sweep(rows, precision)
         by_d = {float(r["diameter"]): r for r in rows if r["precision"] == precision and r["sweep"] == "resolution"}
         for d in (2.5, 5.0):
             if d not in by_d or by_d[d]["stable"] != "1":
