@@ -192,17 +192,21 @@ class DropletScene {
     fire.dt_max = std::max(dt_, 0.5 * droplet_stability(par_, has_surfaces()).max_dt());
     fire.max_iterations = max_iterations;
     fire.force_tolerance = force_tolerance;
-    return fire_minimize(p_, [&] { return conservative_forces(with_gravity); }, fire);
+    const FireResult result = fire_minimize(p_, [&] { return conservative_forces(with_gravity); }, fire);
+    compute_step_forces();
+    return result;
   }
+
+  // f ← the forces a step evaluates (shape, gravity, walls and obstacles, drag) at the current
+  // positions and velocities. Velocity Verlet's first half kick of the next step uses them, so
+  // call this after changing the state outside step() (relax() does; so must whoever places
+  // droplets with place_droplet()).
+  void compute_step_forces() { step_forces(p_.v); }
 
   // One modified velocity-Verlet step (kernels/common/velocity_verlet.hpp) with gravity and drag.
   void step() {
     vv_.first_half(p_);
-    shape_forces(true);
-    if (par_.drag)  // one pass over the surfaces near each vertex serves repulsion (summed) and drag (nearest)
-      with_surfaces([&](const auto& q) { accumulate_surface_forces(q, p_, vv_.velocity_for_forces(p_), repulsion(), drag()); });
-    else if (has_surfaces())
-      with_surfaces([&](const auto& q) { accumulate_surface_forces(q, p_, p_.v, repulsion()); });
+    step_forces(vv_.velocity_for_forces(p_));
     vv_.second_half(p_);
     ++steps_;
     if (steps_ % shape_check_interval == 0) check_shape_time_step();
@@ -254,8 +258,17 @@ class DropletScene {
     return u;
   }
 
-  // Total energy: kinetic + shape + gravity + walls (forces are recomputed).
-  double total_energy() { return conservative_forces(true) + kinetic_energy(p_); }
+  // Total energy: kinetic + shape + gravity + walls. The forces are recomputed and then restored,
+  // so sampling the energy between steps leaves the dynamics unchanged: the next half kick uses the
+  // forces of the last step (or of compute_step_forces()), drag included (velocity_verlet.hpp).
+  double total_energy() {
+    if (saved_forces_.extent(0) != p_.f.extent(0))
+      saved_forces_ = typename particles_type::vector_view("mesoflow::droplets::saved_forces", p_.f.extent(0));
+    Kokkos::deep_copy(saved_forces_, p_.f);
+    const double e = conservative_forces(true) + kinetic_energy(p_);
+    Kokkos::deep_copy(p_.f, saved_forces_);
+    return e;
+  }
 
   dp::BodyObservables observables() {
     dp::update_body_state(polygons_, p_, state_);
@@ -278,7 +291,8 @@ class DropletScene {
     return out;
   }
 
-  // Moves droplet b's vertices to `vertices` (N_v of them) at rest; setup only.
+  // Moves droplet b's vertices to `vertices` (N_v of them) at rest; setup only (then
+  // compute_step_forces()).
   void place_droplet(int b, const std::vector<Vec<2, double>>& vertices) {
     if (int(vertices.size()) != polygons_.num_vertices(b))
       throw std::invalid_argument("droplet scene: " + std::to_string(vertices.size()) + " vertices for droplet " +
@@ -380,6 +394,15 @@ class DropletScene {
     use(BodySurfaces<Real, ExecSpace>{surfaces_.walls(), surfaces_.num_walls(), *candidates_, polygons_.body});
   }
 
+  // f ← the forces of a step, the velocity-dependent ones (drag) at velocities u.
+  void step_forces(const typename particles_type::vector_view& u) {
+    shape_forces(true);
+    if (par_.drag)  // one pass over the surfaces near each vertex serves repulsion (summed) and drag (nearest)
+      with_surfaces([&](const auto& q) { accumulate_surface_forces(q, p_, u, repulsion(), drag()); });
+    else if (has_surfaces())
+      with_surfaces([&](const auto& q) { accumulate_surface_forces(q, p_, p_.v, repulsion()); });
+  }
+
   // f ← −∇(U_shape + U_gravity); returns that energy. One fused loop over the vertices; bending
   // joins it only at K_b > 0 (a compile-time term list, so K_b = 0 costs nothing).
   double shape_forces(bool with_gravity) {
@@ -410,6 +433,7 @@ class DropletScene {
   Surfaces<Real, ExecSpace> surfaces_;
   VelocityVerlet<2, Real, ExecSpace> vv_;
   particles_type p_;
+  typename particles_type::vector_view saved_forces_;  // total_energy() restores the step's forces from it
   double l0_, b_inf_;
   Vec<2, Real> gravity_;
   std::optional<BodyObstacleList<Real, ExecSpace>> candidates_;  // with obstacles only

@@ -198,6 +198,7 @@ void run_obstacle_batch(const ObstacleEnsembleParameters& par, const std::vector
       alone.relax(par.relax_iterations);
       scene.place_droplet(k, alone.droplet_vertices(0));
     }
+    scene.compute_step_forces();
     const auto state_of = [&scene] {
       const auto& s = scene.update_body_state();
       return DeformableReplicaState<Real, ExecSpace>{s.com, s.kinetic_energy};
@@ -213,6 +214,7 @@ void run_obstacle_batch(const ObstacleEnsembleParameters& par, const std::vector
       alone.relax(par.relax_iterations);
       scene.place_droplet(k, alone.droplet_centre(0));
     }
+    scene.compute_step_forces();
     const auto state_of = [&scene] {
       const auto& p = scene.particles();
       return SoftReplicaState<Real, ExecSpace>{p.x, p.v, p.mass};

@@ -120,7 +120,17 @@ class SoftParticleScene {
     fire.dt_max = std::max(dt_, 0.5 * soft_particle_max_dt(par_));
     fire.max_iterations = max_iterations;
     fire.force_tolerance = force_tolerance;
-    return fire_minimize(p_, [&] { return conservative_forces(false); }, fire);
+    const FireResult result = fire_minimize(p_, [&] { return conservative_forces(false); }, fire);
+    compute_step_forces();
+    return result;
+  }
+
+  // f ← the forces a step evaluates (gravity, eq. 8, eq. 10) at the current positions and
+  // velocities, which velocity Verlet's next half kick uses: call after changing the state outside
+  // step() (relax() does; so must whoever places droplets with place_droplet()).
+  void compute_step_forces() {
+    gravity_forces(true);
+    obstacle_forces(p_.v, Real(b_inf_));
   }
 
   // One modified velocity-Verlet step: gravity, eq. 8 and eq. 10.
@@ -144,7 +154,7 @@ class SoftParticleScene {
     return Vec<2, double>{{double(x(b, 0)), double(x(b, 1))}};
   }
 
-  // Moves droplet b to `centre`, at rest; setup only.
+  // Moves droplet b to `centre`, at rest; setup only (then compute_step_forces()).
   void place_droplet(int b, const Vec<2, double>& centre) {
     const auto x = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), p_.x);
     const auto v = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), p_.v);
