@@ -55,16 +55,20 @@ struct LucyKernel {
   static constexpr const char* name = "lucy";
 
   Real h, inv_h, support, support2;
-  Real norm;  // σ_D / h^D
+  Real norm;            // σ_D / h^D
+  Real gradient_norm;   // −12 σ_D / h^{D+2}: (1/r) dW/dr = gradient_norm (1 − q)²
 
   explicit LucyKernel(Real h_) {
     kernel_detail::check_h(double(h_), name);
     const double hd = double(h_);
+    const double norm_d =
+        (D == 2 ? 5.0 / kernel_detail::pi : 105.0 / (16.0 * kernel_detail::pi)) / kernel_detail::h_power(hd, D);
     h = h_;
     inv_h = Real(1.0 / hd);
     support = h_;
     support2 = Real(hd * hd);
-    norm = Real((D == 2 ? 5.0 / kernel_detail::pi : 105.0 / (16.0 * kernel_detail::pi)) / kernel_detail::h_power(hd, D));
+    norm = Real(norm_d);
+    gradient_norm = Real(-12.0 * norm_d / (hd * hd));
   }
 
   KOKKOS_INLINE_FUNCTION Real value(Real r) const {
@@ -84,7 +88,7 @@ struct LucyKernel {
     const Real q = r * inv_h;
     if (q >= Real(1)) return Real(0);
     const Real s = Real(1) - q;
-    return -Real(12) * norm * inv_h * inv_h * s * s;
+    return gradient_norm * s * s;
   }
 };
 

@@ -19,6 +19,12 @@
 // loop does, packed_state.hpp there): position, extrapolated velocity ū, mass, 1/ρ, p/ρ² and
 // dynamic viscosity μ; pack_sph_rows() fills them once per step and evaluates the equation of
 // state, eq. (6), on the way.
+//
+// A row is read a chunk of list entries at a time: a branch-free screen keeps the entries within
+// the kernel support (a quarter of a list of skin 10% lies beyond it), and the pair terms run over
+// the kept ones only, so no branch depends on a distance (a mispredicted one per dropped entry
+// cost more than the pair terms' arithmetic). Rows of particles in the ImageFreeRegion, away from
+// the periodic faces, skip the minimum image. Neither changes a bit of the sums.
 #pragma once
 
 #include "continuity_density.hpp"
@@ -32,6 +38,8 @@
 
 #include <Kokkos_ScatterView.hpp>
 
+#include <cmath>
+#include <limits>
 #include <stdexcept>
 
 namespace mesoflow::sph {
@@ -59,6 +67,21 @@ using SphRows = Kokkos::View<Real* [SphColumn<D>::width], Kokkos::LayoutRight, E
 // (no_slip_walls.hpp); rows of fluid particles are not read.
 template <int D, class Real, class ExecSpace>
 using WallGeometry = Kokkos::View<Real* [D + 1], Kokkos::LayoutRight, ExecSpace>;
+
+// The part of the box at least (kernel support + overhang) inside every periodic face, where the
+// overhang is the largest distance of any particle outside the box (SphSystem wraps positions at
+// each list rebuild, so it stays below half the skin): a particle j within the support of a
+// particle i in it lies within the box extended by the overhang only at its nearest image, so
+// x_i − x_j needs no minimum image. Unbounded along the other axes.
+template <int D, class Real>
+struct ImageFreeRegion {
+  Real lo[D], hi[D];
+  KOKKOS_INLINE_FUNCTION bool contains(const Vec<D, Real>& x) const {
+    bool inside = true;
+    for (int d = 0; d < D; ++d) inside = inside && x[d] >= lo[d] && x[d] <= hi[d];
+    return inside;
+  }
+};
 
 // rows(i) ← (x_i, ū_i, m_i, 1/ρ_i, p_i/ρ_i², μ_i) and pressure(i) ← p(ρ_i) (eq. 6).
 template <int D, class Real, class ExecSpace>
@@ -101,8 +124,9 @@ class SphPairInteractions {
   void set_body_force(const BodyForce<D, Real>& body) { body_ = body; }
 
   // f(i) ← f_i of eq. (5) and drho(i) ← dρ_i/dt of eq. (4) for every particle, from the packed
-  // rows; `list` must be a neighbor list (full or half) of reach ≥ the kernel's support. With `walls` non-empty the
-  // viscous term of fluid–wall pairs uses Morris' extrapolated wall velocity with factor `morris`.
+  // rows; `list` must be a neighbor list (full or half) of reach ≥ the kernel's support. With `walls`
+  // non-empty the viscous term of fluid–wall pairs uses Morris' extrapolated wall velocity with
+  // factor `morris`.
   void compute(const SphRows<D, Real, ExecSpace>& rows, const int_view& type,
                const NeighborList<D, Real, ExecSpace>& list, const Box<D, Real>& box, const vector_view& f,
                const scalar_view& drho, const WallGeometry<D, Real, ExecSpace>& walls = {},
@@ -110,20 +134,85 @@ class SphPairInteractions {
     if (list.cutoff() < kernel_.support)
       throw std::invalid_argument("sph: the neighbor list's cutoff is below the kernel support");
     const bool half = list.kind() == NeighborListKind::half;
+    const ImageFreeRegion<D, Real> region = image_free_region(rows, box);
     if (walls.extent(0) > 0)
-      half ? run_half<true>(rows, type, list, box, f, drho, walls, morris)
-           : run<true>(rows, type, list, box, f, drho, walls, morris);
+      half ? run_half<true>(rows, type, list, box, region, f, drho, walls, morris)
+           : run<true>(rows, type, list, box, region, f, drho, walls, morris);
     else
-      half ? run_half<false>(rows, type, list, box, f, drho, walls, morris)
-           : run<false>(rows, type, list, box, f, drho, walls, morris);
+      half ? run_half<false>(rows, type, list, box, region, f, drho, walls, morris)
+           : run<false>(rows, type, list, box, region, f, drho, walls, morris);
   }
 
-  // run, run_half and wall_factor are implementation details, public only because nvcc rejects a
-  // KOKKOS_LAMBDA in a private or protected member function.
+  // The ImageFreeRegion of the particles in `rows`: one reduction for the largest overhang.
+  ImageFreeRegion<D, Real> image_free_region(const SphRows<D, Real, ExecSpace>& rows, const Box<D, Real>& box) const {
+    using C = SphColumn<D>;
+    Real overhang = 0;
+    Kokkos::parallel_reduce(
+        "mesoflow::sph::overhang", Kokkos::RangePolicy<ExecSpace>(0, rows.extent(0)),
+        KOKKOS_LAMBDA(int i, Real& out) {
+          for (int d = 0; d < D; ++d)
+            if (box.periodic[d]) {
+              const Real below = box.lo[d] - rows(i, C::x + d);
+              const Real above = rows(i, C::x + d) - (box.lo[d] + box.length[d]);
+              out = below > out ? below : out;
+              out = above > out ? above : out;
+            }
+        },
+        Kokkos::Max<Real>(overhang));
+    ImageFreeRegion<D, Real> inner;
+    for (int d = 0; d < D; ++d) {
+      if (!box.periodic[d]) {
+        inner.lo[d] = std::numeric_limits<Real>::lowest();
+        inner.hi[d] = std::numeric_limits<Real>::max();
+        continue;
+      }
+      // Round-off of the positions and of these bounds stays far below the slack.
+      const double lo = double(box.lo[d]), length = double(box.length[d]);
+      const double margin = double(kernel_.support) + double(overhang < Real(0) ? Real(0) : overhang) +
+                            64 * double(std::numeric_limits<Real>::epsilon()) * (std::fabs(lo) + length);
+      inner.lo[d] = Real(lo + margin);
+      inner.hi[d] = Real(lo + length - margin);
+    }
+    return inner;
+  }
+
+  // run, run_half, screen and wall_factor are implementation details, public only because nvcc
+  // rejects a KOKKOS_LAMBDA in a private or protected member function.
+
+  // List entries screened at a time (the file comment): a half list of skin 10% holds about 44 per
+  // row. An enumerator, not a static constexpr int: nvcc has no device copy of a host variable.
+  enum : int { chunk = 32 };
+
+  // The entries k ∈ [k0, k1) (k1 − k0 ≤ chunk) of `row` with |x_i − x_j| < support: j_in, dr_in
+  // (x_i − x_j, minimum image) and r2_in (|dr|²) receive them; returns how many there are. Without
+  // Image, x_i lies in the ImageFreeRegion and dr is taken as it is (the same bits: the minimum image
+  // would not change it).
+  template <bool Image>
+  KOKKOS_INLINE_FUNCTION static int screen(const SphRows<D, Real, ExecSpace>& rows,
+                                           const NeighborData<ExecSpace>& nbr, const Box<D, Real>& box, int row,
+                                           int k0, int k1, const Vec<D, Real>& xi, Real support2, int* j_in,
+                                           Vec<D, Real>* dr_in, Real* r2_in) {
+    using C = SphColumn<D>;
+    int kept = 0;
+    for (int k = k0; k < k1; ++k) {
+      const int j = nbr.neighbor(row, k);
+      Vec<D, Real> dr;
+      for (int d = 0; d < D; ++d) dr[d] = xi[d] - rows(j, C::x + d);
+      if (Image) box.minimum_image_near(dr);
+      const Real r2 = norm2(dr);
+      j_in[kept] = j;
+      dr_in[kept] = dr;
+      r2_in[kept] = r2;
+      kept += r2 < support2;
+    }
+    return kept;
+  }
+
   template <bool Morris>
   void run(const SphRows<D, Real, ExecSpace>& rows, const int_view& type, const NeighborList<D, Real, ExecSpace>& list,
-           const Box<D, Real>& box, const vector_view& f, const scalar_view& drho,
-           const WallGeometry<D, Real, ExecSpace>& walls, const MorrisWallFactor<Real>& morris) const {
+           const Box<D, Real>& box, const ImageFreeRegion<D, Real>& region, const vector_view& f,
+           const scalar_view& drho, const WallGeometry<D, Real, ExecSpace>& walls,
+           const MorrisWallFactor<Real>& morris) const {
     using C = SphColumn<D>;
     const auto kernel = kernel_;
     const auto body = body_;
@@ -145,28 +234,34 @@ class SphPairInteractions {
           [[maybe_unused]] const bool wall_i = is_fixed(ti);
           double rate = 0;
           double fi[D] = {};
+          int j_in[chunk];
+          Vec<D, Real> dr_in[chunk];
+          Real r2_in[chunk];
           const int nn = nbr.num_neighbors(row);
-          for (int k = 0; k < nn; ++k) {
-            const int j = nbr.neighbor(row, k);
-            Vec<D, Real> dr, uij;
-            for (int d = 0; d < D; ++d) dr[d] = xi[d] - rows(j, C::x + d);
-            box.minimum_image_near(dr);
-            const Real r2 = norm2(dr);
-            if (r2 >= support2) continue;
-            const Real dW_over_r = kernel.derivative_over_r(kmath::sqrt(r2));
-            for (int d = 0; d < D; ++d) uij[d] = ui[d] - rows(j, C::u + d);
-            const Real m_j = rows(j, C::mass);
-            rate += double(ContinuityDensity<D, Real>::rate(m_j, dW_over_r, dr, uij));
-            Vec<D, Real> vij = uij;
-            // `if`, not `if constexpr`: nvcc rejects a KOKKOS_LAMBDA whose first use of a captured
-            // variable is inside `if constexpr` (the condition is a compile-time constant all the same).
-            if (Morris) {
-              if (wall_i != is_fixed(type(j))) vij *= wall_factor(wall_i, i, j, dr, walls, morris);
+          const bool image_free = region.contains(xi);
+          for (int k0 = 0; k0 < nn; k0 += chunk) {
+            const int k1 = nn - k0 < chunk ? nn : k0 + chunk;
+            const int kept = image_free ? screen<false>(rows, nbr, box, row, k0, k1, xi, support2, j_in, dr_in, r2_in)
+                                        : screen<true>(rows, nbr, box, row, k0, k1, xi, support2, j_in, dr_in, r2_in);
+            for (int q = 0; q < kept; ++q) {
+              const int j = j_in[q];
+              const Vec<D, Real> dr = dr_in[q];
+              const Real dW_over_r = kernel.derivative_over_r(kmath::sqrt(r2_in[q]));
+              Vec<D, Real> uij;
+              for (int d = 0; d < D; ++d) uij[d] = ui[d] - rows(j, C::u + d);
+              const Real m_j = rows(j, C::mass);
+              rate += double(ContinuityDensity<D, Real>::rate(m_j, dW_over_r, dr, uij));
+              Vec<D, Real> vij = uij;
+              // `if`, not `if constexpr`: nvcc rejects a KOKKOS_LAMBDA whose first use of a captured
+              // variable is inside `if constexpr` (the condition is a compile-time constant all the same).
+              if (Morris) {
+                if (wall_i != is_fixed(type(j))) vij *= wall_factor(wall_i, i, j, dr, walls, morris);
+              }
+              const Vec<D, Real> fij = PressureViscousForce<D, Real>::pair(
+                  m_j, p_rho2_i, rows(j, C::p_over_rho2), mu_i, rows(j, C::mu), inv_rho_i, rows(j, C::inv_rho),
+                  dW_over_r, dr, vij);
+              for (int d = 0; d < D; ++d) fi[d] += double(fij[d]);
             }
-            const Vec<D, Real> fij = PressureViscousForce<D, Real>::pair(
-                m_j, p_rho2_i, rows(j, C::p_over_rho2), mu_i, rows(j, C::mu), inv_rho_i, rows(j, C::inv_rho),
-                dW_over_r, dr, vij);
-            for (int d = 0; d < D; ++d) fi[d] += double(fij[d]);
           }
           const double m_i = double(rows(i, C::mass));
           for (int d = 0; d < D; ++d) f(i, d) = Real(m_i * (fi[d] + double(body.component(ti, d))));
@@ -179,8 +274,9 @@ class SphPairInteractions {
   // m_i R_ij. acc(i) holds Σ_j f_ij/m_i (D columns) and ρ̇_i (column D).
   template <bool Morris>
   void run_half(const SphRows<D, Real, ExecSpace>& rows, const int_view& type,
-                const NeighborList<D, Real, ExecSpace>& list, const Box<D, Real>& box, const vector_view& f,
-                const scalar_view& drho, const WallGeometry<D, Real, ExecSpace>& walls,
+                const NeighborList<D, Real, ExecSpace>& list, const Box<D, Real>& box,
+                const ImageFreeRegion<D, Real>& region, const vector_view& f, const scalar_view& drho,
+                const WallGeometry<D, Real, ExecSpace>& walls,
                 const MorrisWallFactor<Real>& morris) {
     using C = SphColumn<D>;
     const int n = int(rows.extent(0));
@@ -214,33 +310,39 @@ class SphPairInteractions {
           [[maybe_unused]] const bool wall_i = Morris ? is_fixed(type(i)) : false;
           double rate = 0;
           double fi[D] = {};
+          int j_in[chunk];
+          Vec<D, Real> dr_in[chunk];
+          Real r2_in[chunk];
           const int nn = nbr.num_neighbors(row);
-          for (int k = 0; k < nn; ++k) {
-            const int j = nbr.neighbor(row, k);
-            Vec<D, Real> dr, uij;
-            for (int d = 0; d < D; ++d) dr[d] = xi[d] - rows(j, C::x + d);
-            box.minimum_image_near(dr);
-            const Real r2 = norm2(dr);
-            if (r2 >= support2) continue;
-            const Real dW_over_r = kernel.derivative_over_r(kmath::sqrt(r2));
-            for (int d = 0; d < D; ++d) uij[d] = ui[d] - rows(j, C::u + d);
-            const Real m_j = rows(j, C::mass);
-            const Real r_ij = ContinuityDensity<D, Real>::rate(Real(1), dW_over_r, dr, uij);
-            rate += double(m_j * r_ij);
-            Vec<D, Real> vij = uij;
-            // `if`, not `if constexpr`: nvcc rejects a KOKKOS_LAMBDA whose first use of a captured
-            // variable is inside `if constexpr` (the condition is a compile-time constant all the same).
-            if (Morris) {
-              if (wall_i != is_fixed(type(j))) vij *= wall_factor(wall_i, i, j, dr, walls, morris);
+          const bool image_free = region.contains(xi);
+          for (int k0 = 0; k0 < nn; k0 += chunk) {
+            const int k1 = nn - k0 < chunk ? nn : k0 + chunk;
+            const int kept = image_free ? screen<false>(rows, nbr, box, row, k0, k1, xi, support2, j_in, dr_in, r2_in)
+                                        : screen<true>(rows, nbr, box, row, k0, k1, xi, support2, j_in, dr_in, r2_in);
+            for (int q = 0; q < kept; ++q) {
+              const int j = j_in[q];
+              const Vec<D, Real> dr = dr_in[q];
+              const Real dW_over_r = kernel.derivative_over_r(kmath::sqrt(r2_in[q]));
+              Vec<D, Real> uij;
+              for (int d = 0; d < D; ++d) uij[d] = ui[d] - rows(j, C::u + d);
+              const Real m_j = rows(j, C::mass);
+              const Real r_ij = ContinuityDensity<D, Real>::rate(Real(1), dW_over_r, dr, uij);
+              rate += double(m_j * r_ij);
+              Vec<D, Real> vij = uij;
+              // `if`, not `if constexpr`: nvcc rejects a KOKKOS_LAMBDA whose first use of a captured
+              // variable is inside `if constexpr` (the condition is a compile-time constant all the same).
+              if (Morris) {
+                if (wall_i != is_fixed(type(j))) vij *= wall_factor(wall_i, i, j, dr, walls, morris);
+              }
+              const Vec<D, Real> t_ij = PressureViscousForce<D, Real>::pair(
+                  Real(1), p_rho2_i, rows(j, C::p_over_rho2), mu_i, rows(j, C::mu), inv_rho_i, rows(j, C::inv_rho),
+                  dW_over_r, dr, vij);
+              for (int d = 0; d < D; ++d) {
+                fi[d] += double(m_j * t_ij[d]);
+                access(j, d) -= double(m_i * t_ij[d]);
+              }
+              access(j, D) += double(m_i * r_ij);
             }
-            const Vec<D, Real> t_ij = PressureViscousForce<D, Real>::pair(
-                Real(1), p_rho2_i, rows(j, C::p_over_rho2), mu_i, rows(j, C::mu), inv_rho_i, rows(j, C::inv_rho),
-                dW_over_r, dr, vij);
-            for (int d = 0; d < D; ++d) {
-              fi[d] += double(m_j * t_ij[d]);
-              access(j, d) -= double(m_i * t_ij[d]);
-            }
-            access(j, D) += double(m_i * r_ij);
           }
           for (int d = 0; d < D; ++d) access(i, d) += fi[d];
           access(i, D) += rate;
