@@ -275,7 +275,9 @@ std::string number(double v) {
 
 template <class T>
 void write_vector(hid_t loc, const std::string& path, const std::vector<T>& v, const std::string& unit = "") {
-  const io::Dataset d = io::write_dataset(loc, path, io::native_type<T>(), io::native_type<T>(), {v.size()}, v.data());
+  // The shape spelled out: nvcc's front end loses the braces of `{v.size()}` in this template.
+  const std::vector<hsize_t> shape{hsize_t(v.size())};
+  const io::Dataset d = io::write_dataset(loc, path, io::native_type<T>(), io::native_type<T>(), shape, v.data());
   if (!unit.empty()) io::write_attribute(d.get(), "unit", unit);
 }
 
