@@ -171,7 +171,8 @@ std::pair<double, double> drag_power_and_lowest_vertex(const droplets::DropletSc
 // N_v = 64, K_l/Γ = 10⁻³, the droplet starts at rest 0.005σ above the wall and runs for 3 t0 (full:
 // 30 t0), ten times longer than without drag: the near-wall drag, ζ_i ∝ d_i^(−4/3), slows the last
 // approach so much (~V_t/8 for the lowest vertex at d = 0.03σ) that contact takes ~1 t0. Bounds:
-// |E + W − E0| < 10⁻³ Mgσ (measured 2.1·10⁻⁴ at Γ = 10, ≤ 9·10⁻⁵ elsewhere over 30 t0),
+// |E + W − E0| < 10⁻³ Mgσ (measured over 3 t0: 2.1·10⁻⁴ at Γ = 10, ≤ 1.3·10⁻⁵ elsewhere; over
+// 30 t0, sampled 10 times less often: ≤ 9·10⁻⁵),
 // |A/a0 − 1| as without drag, finite, a vertex disk (diameter δ = l0)
 // touches the wall, and no vertex crosses it. At rest on the wall the vertices still slide down the
 // interface, only slower than without drag: the K_a = 10⁶ droplet's area mode reaches the shape check
