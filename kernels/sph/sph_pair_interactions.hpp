@@ -72,13 +72,16 @@ using WallGeometry = Kokkos::View<Real* [D + 1], Kokkos::LayoutRight, ExecSpace>
 // overhang is the largest distance of any particle outside the box (SphSystem wraps positions at
 // each list rebuild, so it stays below half the skin): a particle j within the support of a
 // particle i in it lies within the box extended by the overhang only at its nearest image, so
-// x_i − x_j needs no minimum image. Unbounded along the other axes.
-template <int D, class Real>
+// x_i − x_j needs no minimum image. Unbounded along the other axes. lo and hi hold the bounds
+// without the overhang, which stays on the device (reduced there each step, no host sync).
+template <int D, class Real, class ExecSpace>
 struct ImageFreeRegion {
   Real lo[D], hi[D];
+  Kokkos::View<const Real, ExecSpace> overhang;
   KOKKOS_INLINE_FUNCTION bool contains(const Vec<D, Real>& x) const {
+    const Real margin = overhang() > Real(0) ? overhang() : Real(0);
     bool inside = true;
-    for (int d = 0; d < D; ++d) inside = inside && x[d] >= lo[d] && x[d] <= hi[d];
+    for (int d = 0; d < D; ++d) inside = inside && x[d] >= lo[d] + margin && x[d] <= hi[d] - margin;
     return inside;
   }
 };
@@ -134,7 +137,7 @@ class SphPairInteractions {
     if (list.cutoff() < kernel_.support)
       throw std::invalid_argument("sph: the neighbor list's cutoff is below the kernel support");
     const bool half = list.kind() == NeighborListKind::half;
-    const ImageFreeRegion<D, Real> region = image_free_region(rows, box);
+    const ImageFreeRegion<D, Real, ExecSpace> region = image_free_region(rows, box);
     if (walls.extent(0) > 0)
       half ? run_half<true>(rows, type, list, box, region, f, drho, walls, morris)
            : run<true>(rows, type, list, box, region, f, drho, walls, morris);
@@ -143,10 +146,12 @@ class SphPairInteractions {
            : run<false>(rows, type, list, box, region, f, drho, walls, morris);
   }
 
-  // The ImageFreeRegion of the particles in `rows`: one reduction for the largest overhang.
-  ImageFreeRegion<D, Real> image_free_region(const SphRows<D, Real, ExecSpace>& rows, const Box<D, Real>& box) const {
+  // The ImageFreeRegion of the particles in `rows`: one reduction for the largest overhang, into a
+  // device scalar (asynchronous: the pair loop reads it).
+  ImageFreeRegion<D, Real, ExecSpace> image_free_region(const SphRows<D, Real, ExecSpace>& rows,
+                                                        const Box<D, Real>& box) {
     using C = SphColumn<D>;
-    Real overhang = 0;
+    if (overhang_.data() == nullptr) overhang_ = Kokkos::View<Real, ExecSpace>("mesoflow::sph::overhang");
     Kokkos::parallel_reduce(
         "mesoflow::sph::overhang", Kokkos::RangePolicy<ExecSpace>(0, rows.extent(0)),
         KOKKOS_LAMBDA(int i, Real& out) {
@@ -158,18 +163,19 @@ class SphPairInteractions {
               out = above > out ? above : out;
             }
         },
-        Kokkos::Max<Real>(overhang));
-    ImageFreeRegion<D, Real> inner;
+        Kokkos::Max<Real, ExecSpace>(overhang_));
+    ImageFreeRegion<D, Real, ExecSpace> inner;
+    inner.overhang = overhang_;
     for (int d = 0; d < D; ++d) {
       if (!box.periodic[d]) {
-        inner.lo[d] = std::numeric_limits<Real>::lowest();
-        inner.hi[d] = std::numeric_limits<Real>::max();
+        inner.lo[d] = std::numeric_limits<Real>::lowest() / 2;
+        inner.hi[d] = std::numeric_limits<Real>::max() / 2;
         continue;
       }
       // Round-off of the positions and of these bounds stays far below the slack.
       const double lo = double(box.lo[d]), length = double(box.length[d]);
-      const double margin = double(kernel_.support) + double(overhang < Real(0) ? Real(0) : overhang) +
-                            64 * double(std::numeric_limits<Real>::epsilon()) * (std::fabs(lo) + length);
+      const double margin =
+          double(kernel_.support) + 64 * double(std::numeric_limits<Real>::epsilon()) * (std::fabs(lo) + length);
       inner.lo[d] = Real(lo + margin);
       inner.hi[d] = Real(lo + length - margin);
     }
@@ -210,7 +216,7 @@ class SphPairInteractions {
 
   template <bool Morris>
   void run(const SphRows<D, Real, ExecSpace>& rows, const int_view& type, const NeighborList<D, Real, ExecSpace>& list,
-           const Box<D, Real>& box, const ImageFreeRegion<D, Real>& region, const vector_view& f,
+           const Box<D, Real>& box, const ImageFreeRegion<D, Real, ExecSpace>& region, const vector_view& f,
            const scalar_view& drho, const WallGeometry<D, Real, ExecSpace>& walls,
            const MorrisWallFactor<Real>& morris) const {
     using C = SphColumn<D>;
@@ -275,7 +281,7 @@ class SphPairInteractions {
   template <bool Morris>
   void run_half(const SphRows<D, Real, ExecSpace>& rows, const int_view& type,
                 const NeighborList<D, Real, ExecSpace>& list, const Box<D, Real>& box,
-                const ImageFreeRegion<D, Real>& region, const vector_view& f, const scalar_view& drho,
+                const ImageFreeRegion<D, Real, ExecSpace>& region, const vector_view& f, const scalar_view& drho,
                 const WallGeometry<D, Real, ExecSpace>& walls,
                 const MorrisWallFactor<Real>& morris) {
     using C = SphColumn<D>;
@@ -373,6 +379,7 @@ class SphPairInteractions {
   Kernel kernel_;
   BodyForce<D, Real> body_;
   Kokkos::View<double* [D + 1], ExecSpace> acc_;
+  Kokkos::View<Real, ExecSpace> overhang_;  // largest distance of a particle outside the box (ImageFreeRegion)
   decltype(Kokkos::Experimental::create_scatter_view(Kokkos::View<double* [D + 1], ExecSpace>())) scatter_;
 };
 

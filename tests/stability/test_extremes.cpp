@@ -76,6 +76,17 @@ struct DpCorner {
 
 class DpExtremes : public ::testing::TestWithParam<DpCorner> {};
 
+// The corner's droplet: N_v = 64, K_l/Γ = 10⁻³, the rest the scene's defaults (the paper's drag on).
+droplets::DropletParameters dp_corner_parameters(const DpCorner& c) {
+  droplets::DropletParameters par;
+  par.vertices = 64;
+  par.line_tension = c.line_tension;
+  par.perimeter_stiffness = 1e-3 * c.line_tension;
+  par.area_stiffness = c.area_stiffness;
+  par.wall_energy = c.wall_energy;
+  return par;
+}
+
 // N_v = 64, K_l/Γ = 10⁻³, the droplet starts at rest 0.02σ above the wall (vertex disks not
 // touching it) and falls under gravity for 0.3 t0, in both sets: it reaches the wall after 0.2 t0.
 // The full set does not run these longer: without dissipation the weak segment springs leave the
@@ -92,12 +103,7 @@ class DpExtremes : public ::testing::TestWithParam<DpCorner> {};
 // in both cases the bounds must hold over every step it ran (docs/stability.md).
 TEST_P(DpExtremes, FallsOntoAWallFiniteConservingEnergyAndArea) {
   const DpCorner c = GetParam();
-  droplets::DropletParameters par;
-  par.vertices = 64;
-  par.line_tension = c.line_tension;
-  par.perimeter_stiffness = 1e-3 * c.line_tension;
-  par.area_stiffness = c.area_stiffness;
-  par.wall_energy = c.wall_energy;
+  droplets::DropletParameters par = dp_corner_parameters(c);
   par.drag = false;
   const auto wall = droplets::deformation_detail::flat_wall();
   const double l0 = dp::regular_polygon_edge(droplets::droplet_area, par.vertices);
@@ -179,12 +185,7 @@ std::pair<double, double> drag_power_and_lowest_vertex(const droplets::DropletSc
 // after 18 t0 (full set), which stops the run as without drag; the bounds hold until then.
 TEST_P(DpDragExtremes, SettlesOnAWallBalancingEnergyAgainstTheDragsWork) {
   const DpCorner c = GetParam();
-  droplets::DropletParameters par;
-  par.vertices = 64;
-  par.line_tension = c.line_tension;
-  par.perimeter_stiffness = 1e-3 * c.line_tension;
-  par.area_stiffness = c.area_stiffness;
-  par.wall_energy = c.wall_energy;
+  const droplets::DropletParameters par = dp_corner_parameters(c);
   const auto wall = droplets::deformation_detail::flat_wall();
   const double l0 = dp::regular_polygon_edge(droplets::droplet_area, par.vertices);
   droplets::DropletScene<double, Exec> scene(par, wall, {Vec<2, double>{{0.0, 0.5 + 0.5 * l0 + 0.005}}});
