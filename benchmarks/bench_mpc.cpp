@@ -6,6 +6,10 @@
 //   BM_MpcStep<3, Real, srd>/1000000/10/25: SRD at 10 particles per cell (target 5·10⁷/s).
 //   BM_MpcStepSeparate: the same step as three calls (stream, shift_grid, collide), to show what
 //     the fused streaming saves.
+//   BM_ChannelFlowStep<rule>: one step of the paper's crystal scene (ChannelFlow: L × W =
+//     1000Δx × 15Δx, n = 40, walls, 90 discs on the axis, AT+a), with the walls' cut cells filled
+//     by the mirror images (rule 0, the default) or by Appendix B's Maxwell–Boltzmann particles
+//     (rule 1): what the mirror images' selection pass costs. items = solvent particles × steps.
 // perf/run normalises these rates by bench_common's BM_ReferenceTriad (x ← x + h v over 2²⁰ 3D
 // double particles) measured in the same run.
 // Particles start at uniformly random positions in random memory order; the third argument sorts
@@ -14,12 +18,15 @@
 
 #include "manual_timing.hpp"
 #include "kernels/common/random.hpp"
+#include "kernels/mpc/channel_flow.hpp"
 #include "kernels/mpc/maxwell_boltzmann.hpp"
 #include "kernels/mpc/mpc_collision.hpp"
 
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <string>
+#include <vector>
 
 namespace mesoflow {
 namespace {
@@ -112,6 +119,24 @@ void BM_MpcStepSeparate(benchmark::State& state) {
   mpc_step<D, Real, Rule, false>(state);
 }
 
+// Argument: 0 mirror images, 1 Appendix B's Maxwell–Boltzmann wall particles.
+template <class Real>
+void BM_ChannelFlowStep(benchmark::State& state) {
+  mpc::ChannelFlowParameters<Real> p;  // the paper's scene (Appendix B)
+  p.wall_virtual = state.range(0) == 0 ? mpc::WallVirtualRule::mirror : mpc::WallVirtualRule::maxwell;
+  const int discs = 90;
+  std::vector<std::array<Real, 2>> centres;
+  for (int k = 0; k < discs; ++k) centres.push_back({Real((k + 0.5) * double(p.length) / discs), Real(0.5) * p.width});
+  mpc::ChannelFlow<Real, Exec> flow(p, centres);
+  const int steps = 10;
+  for (int s = 0; s < 2 * p.sort_interval; ++s) flow.step();  // warm-up, past the first sort
+  timed(state, [&] {
+    for (int s = 0; s < steps; ++s) flow.step();
+  });
+  state.SetItemsProcessed(state.iterations() * std::int64_t(steps) * std::int64_t(flow.num_solvent()));
+  state.SetLabel(mpc::to_string(p.wall_virtual));
+}
+
 constexpr auto srd = CollisionRule::srd;
 constexpr auto at_plus_a = CollisionRule::at_plus_a;
 constexpr auto at_minus_a = CollisionRule::at_minus_a;
@@ -124,6 +149,7 @@ BENCHMARK_TEMPLATE(BM_MpcStep, 2, double, at_minus_a)->Args({600000, 40, 25})->U
 BENCHMARK_TEMPLATE(BM_MpcStep, 3, double, at_plus_a)->Args({1000000, 10, 25})->UseManualTime()->Unit(benchmark::kMillisecond);
 BENCHMARK_TEMPLATE(BM_MpcStepSeparate, 2, double, at_plus_a)->Args({600000, 40, 25})->UseManualTime()->Unit(benchmark::kMillisecond);
 BENCHMARK_TEMPLATE(BM_MpcStepSeparate, 3, double, srd)->Args({1000000, 10, 25})->UseManualTime()->Unit(benchmark::kMillisecond);
+BENCHMARK_TEMPLATE(BM_ChannelFlowStep, double)->Arg(0)->Arg(1)->UseManualTime()->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace mesoflow

@@ -8,7 +8,10 @@
 // g = 0.1 (body acceleration of the solvent, Δx/τ²), γ = 2·10⁴ m/τ (plate friction −γ u_d),
 // channel L × W = 1000Δx × 15Δx with walls at y = 0 and y = W, 90 discs (spacing a = L/N), WCA
 // ε = k_BT, r0 = Δx (eq. B.4), disc mass M = ρπR², zigzag (triangle wave) of six discs per
-// wavelength. η of eq. (B.3) for these values: 321.77 m/τ.
+// wavelength. η of eq. (B.3) for these values: 321.77 m/τ. Walls: bounce-back, and virtual
+// particles in the cut wall cells, by default the mirror images of the fluid next to the wall
+// (no slip; kernels/mpc/wall_mirror_particles.hpp), or with --wall-virtual maxwell Appendix B's
+// Maxwell–Boltzmann particles at the wall velocity (a slip length ≈ 0.1Δx; docs/mpc.md).
 //
 // Output (<out> = --output without its extension): <out>.h5 (H5MD: disc positions, unwrapped
 // along x, and velocities every --frame-interval; observables u_oil (mean solvent velocity), u_d
@@ -45,6 +48,7 @@ namespace {
 struct Parameters {
   mpc::ChannelFlowParameters<double> flow;
   std::string rule = "at+a";
+  std::string wall_virtual = "mirror";  // mpc::WallVirtualRule: mirror images or Appendix B's particles
   long long discs = 90;
   long long wavelength = 6;  // discs per zigzag period
   double amplitude = -1;     // zigzag amplitude /Δx; < 0: the largest without wall contact
@@ -97,7 +101,8 @@ std::string scene_signature(const Parameters& par) {
   std::ostringstream s;
   s << std::setprecision(17) << "L=" << f.length << " W=" << f.width << " R=" << f.disc_radius << " n=" << f.density
     << " h=" << f.h << " g=" << f.body_acceleration << " gamma=" << f.friction << " eps=" << f.wca_epsilon
-    << " r0=" << f.wca_r0 << " rule=" << par.rule << " N=" << par.discs << " wavelength=" << par.wavelength
+    << " r0=" << f.wca_r0 << " rule=" << par.rule << " walls=" << par.wall_virtual << " N=" << par.discs
+    << " wavelength=" << par.wavelength
     << " amplitude=" << par.amplitude << " warmup=" << par.warmup << " frame=" << par.frame_interval
     << " seed=" << par.seed << " precision=" << par.precision;
   return s.str();
@@ -126,6 +131,7 @@ void run(const Parameters& par, const cli::DriverApp& app) {
   fp.mass = Real(f.mass);
   fp.h = Real(f.h);
   fp.rule = mpc::parse_collision_rule(par.rule);
+  fp.wall_virtual = mpc::parse_wall_virtual_rule(par.wall_virtual);
   fp.body_acceleration = Real(f.body_acceleration);
   fp.disc_radius = Real(f.disc_radius);
   fp.friction = Real(f.friction);
@@ -307,6 +313,7 @@ void run(const Parameters& par, const cli::DriverApp& app) {
   json << std::setprecision(8) << "{\n  \"driver\": \"crystal\",\n  \"discs\": " << nd
        << ",\n  \"solvent_particles\": " << flow.num_solvent() << ",\n  \"measured_frames\": " << frames
        << ",\n  \"u_d\": " << ud << ",\n  \"u_oil\": " << uoil << ",\n  \"K\": " << K
+       << ",\n  \"wall_virtual\": \"" << par.wall_virtual << "\""
        << ",\n  \"viscosity_b3\": " << eta << ",\n  \"reynolds\": " << reynolds << ",\n  \"peclet\": " << peclet;
   if (nd >= 2) {
     const double spacing = f.length / double(nd);
@@ -362,6 +369,10 @@ int main(int argc, char** argv) {
   app.add_real("--wca-epsilon", f.wca_epsilon, "WCA energy ε/k_BT (eq. B.4)", 0.0, 1e6);
   app.add_real("--wca-range", f.wca_r0, "WCA length r0/Δx (eq. B.4)", 0.0, 100.0, Bounds::left_open);
   app.add_choice("--collision", par.rule, "MPC collision rule", {"at+a", "at-a", "srd"});
+  app.add_choice("--wall-virtual", par.wall_virtual,
+                 "virtual particles in the walls' cut cells: mirror (images of the fluid next to the wall: no slip) "
+                 "or maxwell (Appendix B: Maxwell-Boltzmann at the wall velocity, a slip of ~0.1 cell)",
+                 {"mirror", "maxwell"});
   app.add_int("--discs", par.discs, "number of discs N (spacing a = L/N)", 0, 1000000);
   app.add_int("--wavelength", par.wavelength, "discs per period of the initial zigzag", 1, 1000000);
   app.add_real("--amplitude", par.amplitude, "zigzag amplitude /Δx (-1: largest without wall contact)", -1.0, 1e4);

@@ -10,8 +10,10 @@
 //   3. bounce-back on the walls                                      (wall_bounce_back.hpp)
 //   4. bounce-back on the moving discs, impulses to the discs          (disc_bounce_back.hpp)
 //   5. the collision grid is shifted at random
-//   6. virtual particles fill the wall part of the cut wall cells and a √2 a layer inside each
-//      disc                                                          (virtual_particles.hpp)
+//   6. virtual particles fill the wall part of the cut wall cells — mirror images of the fluid
+//      next to the wall (wall_mirror_particles.hpp, the default) or Appendix B's Maxwell–Boltzmann
+//      particles at rest (virtual_particles.hpp; ChannelFlowParameters::wall_virtual) — and a
+//      √2 a layer inside each disc                                   (virtual_particles.hpp)
 //   7. collision (SRD, AT−a or AT+a, eq. B.2) of solvent + virtual particles (mpc_collision.hpp)
 //   8. the virtual particles' momentum change goes to the walls and discs
 //   9. WCA forces (eq. B.4, disc_wca.hpp) and the disc velocity update
@@ -41,6 +43,7 @@
 #include "kernels/mpc/streaming.hpp"
 #include "kernels/mpc/virtual_particles.hpp"
 #include "kernels/mpc/wall_bounce_back.hpp"
+#include "kernels/mpc/wall_mirror_particles.hpp"
 
 #include <array>
 #include <cmath>
@@ -53,11 +56,27 @@
 
 namespace mesoflow::mpc {
 
+// How the wall part of the cut wall cells is filled: `mirror`, the images of the adjacent fluid
+// (wall_mirror_particles.hpp; in the plane Poiseuille test of tests/mpc/test_mpc_walls.cpp a slip
+// of −0.03 … +0.42% of u_max over five seeds), or `maxwell`, Appendix B's Maxwell–Boltzmann
+// particles at the wall velocity (Lamura et al. 2001; a slip of 3.7–4.1% of u_max, slip length
+// ≈ 0.1a, in the same test).
+enum class WallVirtualRule { mirror, maxwell };
+
+inline WallVirtualRule parse_wall_virtual_rule(const std::string& name) {
+  if (name == "mirror") return WallVirtualRule::mirror;
+  if (name == "maxwell") return WallVirtualRule::maxwell;
+  throw std::invalid_argument("wall virtual particles '" + name + "': expected one of mirror, maxwell");
+}
+
+inline std::string to_string(WallVirtualRule rule) { return rule == WallVirtualRule::mirror ? "mirror" : "maxwell"; }
+
 template <class Real>
 struct ChannelFlowParameters {
   Real length = 1000;  // L, along x (periodic), a multiple of the cell size
   Real width = 15;     // W, along y
   bool walls = true;   // no-slip walls at y = 0 and y = W; false: periodic in y (a multiple of a)
+  WallVirtualRule wall_virtual = WallVirtualRule::mirror;  // how the walls' cut cells are filled
   Real cell_size = 1;  // a = Δx
   Real density = 40;   // n, solvent particles per cell
   Real kT = 1;
@@ -94,7 +113,10 @@ class ChannelFlow {
     if (!disc_centres.empty()) discs_.set_positions(disc_centres);
     if (p.walls) {
       walls_.emplace(collision_.grid(), p.mass);
-      wall_virtual_.emplace(collision_.grid(), p.density, p.kT, p.mass, p.seed);
+      if (p.wall_virtual == WallVirtualRule::mirror)
+        wall_mirror_.emplace(collision_.grid(), p.density, p.mass);
+      else
+        wall_virtual_.emplace(collision_.grid(), p.density, p.kT, p.mass, p.seed);
     }
     if (!disc_centres.empty())
       disc_virtual_.emplace(discs_, p.cell_size, p.density, p.kT, p.mass, p.seed);
@@ -108,7 +130,8 @@ class ChannelFlow {
     initialise_solvent();
   }
 
-  // One MPC step (see the file comment); no allocation, no host transfer.
+  // One MPC step (see the file comment); no allocation. The mirror wall rule returns one count to
+  // the host per step; otherwise there is no host transfer.
   void step() {
     const std::uint64_t s = step_;
     const Real h = p_.h;
@@ -123,10 +146,12 @@ class ChannelFlow {
     collision_.shift_grid(s);
     std::size_t nv = 0;
     if (wall_virtual_) nv += wall_virtual_->generate(collision_.grid(), xv_, vv_, 0, s);
+    if (wall_mirror_) nv += wall_mirror_->generate(collision_.grid(), x_, v_, num_solvent(), xv_, vv_, 0);
     const std::size_t disc_offset = nv;
     if (disc_virtual_) nv += disc_virtual_->generate(discs_, xv_, vv_, disc_offset, s);
     collision_.collide(x_, v_, xv_, vv_, nv, s);
     if (wall_virtual_) wall_virtual_->transfer(vv_, 0, *walls_);
+    if (wall_mirror_) wall_mirror_->transfer(xv_, vv_, 0, *walls_);
     if (disc_virtual_) disc_virtual_->transfer(xv_, vv_, disc_offset, discs_);
     if (has_discs) {
       accumulate_disc_wca(wca_, discs_);
@@ -232,7 +257,10 @@ class ChannelFlow {
   // Upper bound of the virtual particle count (walls, then discs).
   static std::size_t virtual_capacity(const ChannelFlowParameters<Real>& p, std::size_t discs) {
     std::size_t total = 0;
-    if (p.walls) total += WallVirtualParticles<2, Real, ExecSpace>::capacity(make_grid(p), p.density);
+    if (p.walls)
+      total += p.wall_virtual == WallVirtualRule::mirror
+                   ? WallMirrorParticles<2, Real, ExecSpace>::capacity(make_grid(p), p.density)
+                   : WallVirtualParticles<2, Real, ExecSpace>::capacity(make_grid(p), p.density);
     if (discs > 0)
       total += DiscVirtualParticles<Real, ExecSpace>::capacity(discs, p.disc_radius, p.cell_size, p.density);
     return total;
@@ -301,6 +329,7 @@ class ChannelFlow {
   Kokkos::Array<Real, 2> g_;
   std::optional<ChannelWalls<2, Real, ExecSpace>> walls_;
   std::optional<WallVirtualParticles<2, Real, ExecSpace>> wall_virtual_;
+  std::optional<WallMirrorParticles<2, Real, ExecSpace>> wall_mirror_;
   std::optional<DiscVirtualParticles<Real, ExecSpace>> disc_virtual_;
   vector_view x_, v_, xv_, vv_;
   std::uint64_t step_ = 0;
