@@ -8,7 +8,8 @@ double (filled) and float (open) marked, each point labelled with its sweep para
 
 The CSV has one row per run and sweep with at least the columns sweep, precision, COLUMN of each
 --parameter, the cost column and the error column. The reference run (error exactly 0 in double)
-has no place on a log axis and is named in the panel title instead; a zero error of float (float
+has no place on a log axis and is named in the panel title instead (a reference outside the runs,
+such as an extrapolated limit, names none); a zero error of float (float
 reproduced the reference bitwise) is drawn at the panel's lower edge. Runs with a non-finite error
 or cost (a float run that blew up) are listed in the title. With --error-sigma COLUMN each error
 carries a horizontal bar of that statistical error, and a dotted line marks the reference's own.
@@ -84,7 +85,8 @@ def main():
             ax.axvline(float(reference[0][a.error_sigma]), color="gray", linestyle=":", label="reference's σ")
         ref = ", ".join(label_of(column, r[column]) for r in reference)
         lost = ", ".join(f"{r['precision']} {label_of(column, r[column])}" for r in failed)
-        ax.set_title(f"{title}\nreference (double): {ref}" + (f"\nnon-finite: {lost}" if lost else ""), fontsize=9)
+        ax.set_title(title + (f"\nreference (double): {ref}" if ref else "") + (f"\nnon-finite: {lost}" if lost else ""),
+                     fontsize=9)
         ax.set_xlabel(a.error_label or a.error)
         ax.set_ylabel(a.cost_label)
         ax.grid(True, which="both", alpha=0.3)
