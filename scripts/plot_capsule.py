@@ -5,9 +5,13 @@ constriction: the measures against the centroid position x_c (Figs. 5 and 7: D_x
 C_r), one line per run of the sweep, and a snapshot of the capsule's xy mid-plane outline at
 several x_c inside the channel (Figs. 6 and 10).
 shear: the steady Taylor deformation D_xy and inclination θ/π against Ca (Fig. 3a, b).
+resolution: D_x against x_c for one (Ca, η) at several resolutions Π (Fig. 4), and a CSV of D_x at
+x_c = 3.5, 4, 4.5 d and its largest value inside the constriction for each, with the difference from the
+finest Π (the runs' series interpolated linearly in x_c).
 
 usage: plot_capsule.py constriction SWEEP.csv OUT.png SNAPSHOT.png
        plot_capsule.py shear SHEAR.csv OUT.png
+       plot_capsule.py resolution OUT.png OUT.csv PI=SERIES.csv [PI=SERIES.csv ...]
 """
 import csv
 import math
@@ -96,9 +100,53 @@ def shear(table_path, png):
     fig.savefig(png, dpi=120)
 
 
+def interpolate(xs, ys, x):
+    """ys at x by linear interpolation in the first crossing of x along the (monotone) series."""
+    for k in range(1, len(xs)):
+        if (xs[k - 1] - x) * (xs[k] - x) <= 0 and xs[k] != xs[k - 1]:
+            return ys[k - 1] + (ys[k] - ys[k - 1]) * (x - xs[k - 1]) / (xs[k] - xs[k - 1])
+    return math.nan
+
+
+def resolution(png, table, runs):
+    levels = []
+    for run in runs:
+        pi, path = run.split("=", 1)
+        rows = read(path)
+        levels.append((int(pi), [number(r["x_c"]) for r in rows], [number(r["Dx"]) for r in rows]))
+    levels.sort()
+    probes = (3.5, 4.0, 4.5)
+    fig, ax = plt.subplots(figsize=(6, 4))
+    for pi, x, dx in levels:
+        ax.plot(x, dx, label="Π = %d" % pi)
+    for edge in (3, 5):
+        ax.axvline(edge, color="0.7", lw=0.8, ls="--")
+    ax.set_xlabel("x_c / d")
+    ax.set_ylabel("D∞,x")
+    ax.set_title("Resolution study (Fig. 4)")
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(png, dpi=120)
+
+    finest = levels[-1]
+    ref = [interpolate(finest[1], finest[2], p) for p in probes]
+    ref_max = max(d for x, d in zip(finest[1], finest[2]) if 3 <= x <= 5)
+    with open(table, "w") as f:
+        f.write("resolution,%s,max_Dx_in_constriction,%s,max_Dx_minus_finest\n" % (
+            ",".join("Dx_at_%g" % p for p in probes), ",".join("Dx_at_%g_minus_finest" % p for p in probes)))
+        for pi, x, dx in levels:
+            at = [interpolate(x, dx, p) for p in probes]
+            inside = max(d for xc, d in zip(x, dx) if 3 <= xc <= 5)
+            f.write("%d,%s,%.6g,%s,%.6g\n" % (
+                pi, ",".join("%.6g" % v for v in at), inside,
+                ",".join("%.6g" % (v - r) for v, r in zip(at, ref)), inside - ref_max))
+
+
 def main():
     if sys.argv[1] == "constriction":
         constriction(*sys.argv[2:5])
+    elif sys.argv[1] == "resolution":
+        resolution(sys.argv[2], sys.argv[3], sys.argv[4:])
     else:
         shear(*sys.argv[2:4])
 

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
-# Runs a driver forced above its stability limit (--force-dt) and checks that the NaN watchdog stops
-# it: exit status 1, a message naming the non-finite field, the step and a force term, and no
-# result file written from the bad state.
+# Runs a driver forced above its stability limit (--force-dt) and checks that the NaN watchdog (or the
+# capsule driver's divergence guard) stops it: exit status 1, a message matching the pattern (the
+# non-finite field, the step and a force term; or the diverged density), and no result file
+# written from the bad state.
 #   expect_watchdog_stop.sh <pattern> <result file that must not exist> <command> [arguments...]
 set -uo pipefail
 pattern="$1"; shift
