@@ -49,10 +49,7 @@ class WallMirrorParticles {
   // `density`: n, solvent particles per cell (a^D); `mass`: the solvent's m. The walls are those of
   // ChannelWalls on `grid` (axis 1 walled), at least two cells apart.
   WallMirrorParticles(const CollisionGrid<D, Real>& grid, Real density, Real mass)
-      : mass_(mass), capacity_(capacity(grid, density)) {
-    if (!(density > Real(0)) || !std::isfinite(double(density)))
-      throw std::invalid_argument("wall mirror particles: density n must be finite and > 0, got " +
-                                  std::to_string(double(density)));
+      : mass_(mass), capacity_(capacity(grid, checked_density(density))) {
     if (!(mass > Real(0)) || !std::isfinite(double(mass)))
       throw std::invalid_argument("wall mirror particles: mass must be finite and > 0, got " +
                                   std::to_string(double(mass)));
@@ -67,6 +64,7 @@ class WallMirrorParticles {
 
   // Rows needed at most: 2n per column of cells (s + w_t ≤ 2a) plus ten Poisson deviations.
   static std::size_t capacity(const CollisionGrid<D, Real>& grid, Real density) {
+    checked_density(density);
     std::size_t columns = 1;
     for (int d = 0; d < D; ++d)
       if (d != 1) columns *= std::size_t(grid.n[d]);
@@ -138,6 +136,13 @@ class WallMirrorParticles {
   }
 
  private:
+  static Real checked_density(Real density) {
+    if (!(density > Real(0)) || !std::isfinite(double(density)))
+      throw std::invalid_argument("wall mirror particles: density n must be finite and > 0, got " +
+                                  std::to_string(double(density)));
+    return density;
+  }
+
   Real mass_;
   std::size_t capacity_ = 0, count_ = 0;
   Real middle_ = Real(0);

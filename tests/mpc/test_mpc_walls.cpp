@@ -307,7 +307,7 @@ TYPED_TEST(MpcWallsTest, WallMirrorParticlesAreTheImagesOfTheFluidNextToTheWalls
 
 // A solvent far denser near a wall than n (every particle within the cut depth) overflows the
 // mirror images' capacity: an error naming the count, never a truncated fill. A channel narrower
-// than two cells (overlapping source slabs) is refused.
+// than two cells (overlapping source slabs) and a bad density or mass are refused.
 TYPED_TEST(MpcWallsTest, WallMirrorParticlesRefuseMoreImagesThanTheirCapacity) {
   using Real = typename TypeParam::real;
   using Exec = typename TypeParam::exec;
@@ -322,6 +322,10 @@ TYPED_TEST(MpcWallsTest, WallMirrorParticlesRefuseMoreImagesThanTheirCapacity) {
   EXPECT_THROW(mirror.generate(grid, x, v, std::size_t(N), xv, vv, 0), std::length_error);
   const auto narrow = mpc::make_collision_grid<2, Real>(Real(1), {Real(0), Real(0)}, {Real(4), Real(1.5)}, {1, 0});
   EXPECT_THROW((mpc::WallMirrorParticles<2, Real, Exec>(narrow, Real(5), Real(1))), std::invalid_argument);
+  // A density or mass that is not finite and positive is refused before any size is computed from it.
+  EXPECT_THROW((mpc::WallMirrorParticles<2, Real, Exec>(grid, Real(NAN), Real(1))), std::invalid_argument);
+  EXPECT_THROW((mpc::WallMirrorParticles<2, Real, Exec>(grid, Real(-3), Real(1))), std::invalid_argument);
+  EXPECT_THROW((mpc::WallMirrorParticles<2, Real, Exec>(grid, Real(5), Real(0))), std::invalid_argument);
 }
 
 // Momentum bookkeeping with walls (bounce-back and either kind of virtual particles): the
