@@ -32,8 +32,15 @@
 // --mode shear (§4.1): the capsule in a 5d × 4d × 4d box (--shear-box), walls bounding y sliding at
 //   ∓V; D_xy and the inclination θ/π, steady values averaged over the last 30% of --t-max.
 //
-// Time step: the smallest of the SPH limits and the bonds' (capsule_scene.hpp); at low Re with a
-// raised c0 the acoustic-viscous limit 2ν/c0² binds (sph_time_step.hpp). c0 of eq. (6), for density
+// Time step: the smallest of the SPH limits and the bonds' (capsule_scene.hpp) at the start; at low
+// Re with a raised c0 the acoustic-viscous limit 2ν/c0² binds (sph_time_step.hpp), at finer Π the
+// acoustic one C_c h/c. The step then follows the state: at every sample the running limits
+// (CapsuleScene::running_time_step_limits: viscous, acoustic and force at the current state) are
+// evaluated again and an automatic step above them is lowered to them, never raised. Where the
+// capsule squeezes the fluid the Tait sound speed grows as (ρ/ρ0)³, and a step kept at its starting
+// value diverged (Π = 16 at the slot's entrance, docs/sph-capsules.md, "Resolution study"). A step
+// given with --dt is kept, with one warning when the running limit falls below it. Sample times
+// stay --sample-every apart to within a step; the series records the step and the limits. c0 of eq. (6), for density
 // variations δ = --density-variation (default 1%, the paper's; tait_equation_of_state.hpp): the
 // largest of U/√δ, Morris et al.'s viscous criterion √(ν U/(L δ)) with L = t_c/2 (shear: L_y/2),
 // their body-force criterion √(2 g₀ L_x/δ) — the pressure drop along the channel at twice the
@@ -101,6 +108,58 @@ void check_not_diverged(double density_deviation, long step, double time, const 
        "--c0 or a coarser --resolution may hold it";
   throw std::runtime_error(m.str());
 }
+
+// The step follows the state (file comment, "Time step"). At every sample the scene's running
+// limits (CapsuleScene::running_time_step_limits) are evaluated again: an automatic step above
+// them is lowered to them, never raised; a step given with --dt is kept, with one warning naming
+// the term and the limit the first time the running limit falls below it. Steps are in lattice
+// units; messages give them in the run's time unit (`unit` lattice time units, named `unit_name`).
+class StepGovernor {
+ public:
+  StepGovernor(double dt, bool automatic, bool quiet, double unit, const char* unit_name)
+      : dt_(dt), automatic_(automatic), quiet_(quiet), unit_(unit), unit_name_(unit_name) {}
+  double dt() const { return dt_; }
+  long lowered() const { return lowered_; }
+
+  // At a sample at time t (run units). Returns true when the step was lowered (the caller then
+  // re-derives its step counts).
+  template <class Scene>
+  bool revise(Scene& scene, double t) {
+    const auto limits = scene.running_time_step_limits();
+    const double limit = limits.dt();
+    if (!(dt_ > limit)) return false;
+    if (!automatic_) {
+      if (!warned_)
+        std::cerr << "warning: capsule: at t = " << t << " " << unit_name_ << " the stability limit fell to "
+                  << limit / unit_ << " " << unit_name_ << " (" << limits.term() << "), below the given --dt "
+                  << dt_ / unit_ << "; the run goes on with it\n";
+      warned_ = true;
+      return false;
+    }
+    if (!quiet_ && lowered_ == 0)
+      std::cerr << "capsule: at t = " << t << " " << unit_name_ << " the step follows the stability limit, "
+                << limits.term() << ", down from " << dt_ / unit_ << " to " << limit / unit_ << " " << unit_name_
+                << "\n";
+    dt_ = limit;
+    scene.set_dt(dt_);
+    ++lowered_;
+    return true;
+  }
+  // One line for the end of a run whose step was lowered.
+  void report(double dt0) const {
+    if (lowered_ > 0 && !quiet_)
+      std::cerr << "capsule: the step was lowered " << lowered_ << " times, from " << dt0 / unit_ << " to "
+                << dt_ / unit_ << " " << unit_name_ << "\n";
+  }
+
+ private:
+  double dt_;
+  bool automatic_, quiet_;
+  double unit_;
+  const char* unit_name_;
+  bool warned_ = false;
+  long lowered_ = 0;
+};
 
 constexpr double pi = 3.14159265358979323846;
 
@@ -342,13 +401,23 @@ RunResult run_constriction(const Parameters& par, const cli::DriverApp& app, con
   sp.body_force = {g0, 0, 0};
   capsule::CapsuleScene<Real, Exec> scene(sp);
   const double dt = double(scene.system().dt());
+  StepGovernor governor(dt, par.dt == 0, quiet, d, "d/U");
   const double target_px = u_mean_c * g.constriction_width * 2 * d * g.length[0];  // ρ0 = 1
   const double tau = 2 * d * d / (pi * pi * phys.mu);  // slowest viscous mode of the 2d × 2d duct
-  const long control_every = std::max(1L, long(std::lround(0.02 * d / dt)));
-  const double kappa = std::min(0.5, control_every * dt / tau);
-  const long sample_every = std::max(1L, long(std::lround(par.sample_every * d / dt)));
-  const long frame_every = sample_every * std::max(1L, long(std::lround(par.frame_every / par.sample_every)));
-  const long max_steps = long(std::ceil(par.t_max * d / dt));
+  // Step counts of the control and sampling intervals at the current step (re-derived when the
+  // governor lowers it; samples stay par.sample_every apart to within a step).
+  long control_every = 0, sample_every = 0;
+  double kappa = 0;
+  const auto derive_step_counts = [&] {
+    const double h = governor.dt();
+    control_every = std::max(1L, long(std::lround(0.02 * d / h)));
+    kappa = std::min(0.5, control_every * h / tau);
+    sample_every = std::max(1L, long(std::lround(par.sample_every * d / h)));
+  };
+  derive_step_counts();
+  const long frame_samples = std::max(1L, long(std::lround(par.frame_every / par.sample_every)));
+  const double t_end = par.t_max * d;
+  const long max_steps = long(std::ceil(t_end / dt));  // at the starting step: the progress line's estimate
   const long stall_samples = std::max(2L, long(std::lround(par.stall_window / par.sample_every)));
 
   const std::string run = stem + "_ca" + tag(ca) + "_eta" + tag(eta);
@@ -389,7 +458,8 @@ RunResult run_constriction(const Parameters& par, const cli::DriverApp& app, con
   h5.add_particles_group("membrane", 3, std::size_t(scene.num_membrane()), lo, edges, periodic);
 
   std::ofstream series(r.series_csv);
-  series << "time,x_c,x_front,x_rear,Dx,Dy,Dz,Cf,Cr,body_force,flux_ratio,max_density_deviation\n"
+  series << "time,x_c,x_front,x_rear,Dx,Dy,Dz,Cf,Cr,body_force,flux_ratio,max_density_deviation,dt,"
+            "limit_viscous,limit_acoustic,limit_force,limit_acoustic_viscous,limit_bond\n"
          << std::setprecision(8);
   std::ofstream sections(r.sections_csv);
   sections << "x_c_target,x,y\n" << std::setprecision(8);
@@ -428,16 +498,23 @@ RunResult run_constriction(const Parameters& par, const cli::DriverApp& app, con
     };
   }
   watchdog::NanWatchdog watch(std::move(watched), par.check_every);
-  long step = 0;
+  long step = 0, next_sample = 0, samples = 0;
+  double t_lattice = 0;  // simulated time, lattice units (the step may change)
   r.status = "blocked (t-max)";
-  for (; step <= max_steps; ++step) {
+  for (;; ++step) {
     if (step > 0) {
+      const double h = governor.dt();
       scene.step();
       control();
+      t_lattice += h;
       watch.after_step();
       progress.update(step);
     }
-    if (step % sample_every != 0) continue;
+    const bool last = t_lattice >= t_end * (1 - 1e-12);
+    if (step < next_sample) {
+      if (last) break;
+      continue;
+    }
     watch.check();  // nothing is sampled or written from a non-finite state
     const auto y = scene.outer_layer_positions();
     const auto shape = scene.membrane_shape(y);
@@ -462,13 +539,16 @@ RunResult run_constriction(const Parameters& par, const cli::DriverApp& app, con
     const auto section = capsule::midplane_section(yu, scene.mesh().triangle, d);
     const double cf = capsule::tip_curvature(section, x_c_unwrapped, d, +1, phys.a);
     const double cr = capsule::tip_curvature(section, x_c_unwrapped, d, -1, phys.a);
-    const double time = double(step) * dt / d;
+    const double time = t_lattice / d;
     const double dens = scene.max_density_deviation();
     check_not_diverged(dens, step, time, "d/U");
     r.max_density_deviation = std::max(r.max_density_deviation, dens);
     const double flux_ratio = fluid_momentum_x(scene) / target_px;
+    const auto limits = scene.running_time_step_limits();
     series << time << "," << x_c_unwrapped / d << "," << x_front / d << "," << x_rear / d << "," << D[0] << ","
-           << D[1] << "," << D[2] << "," << cf << "," << cr << "," << body << "," << flux_ratio << "," << dens
+           << D[1] << "," << D[2] << "," << cf << "," << cr << "," << body << "," << flux_ratio << "," << dens << ","
+           << governor.dt() / d << "," << limits.sph.viscous / d << "," << limits.sph.acoustic / d << ","
+           << limits.sph.force / d << "," << limits.sph.acoustic_viscous / d << "," << limits.bond / d
            << std::endl;  // flushed: the run can be watched
     const std::int64_t s64 = step;
     h5.append_observable("x_c", s64, time, x_c_unwrapped / d);
@@ -478,7 +558,7 @@ RunResult run_constriction(const Parameters& par, const cli::DriverApp& app, con
     h5.append_observable("body_force", s64, time, body);
     h5.append_observable("flux_ratio", s64, time, flux_ratio);
     h5.append_observable("max_density_deviation", s64, time, dens);
-    if (step % frame_every == 0) {
+    if (samples % frame_samples == 0) {
       const auto pos = membrane_positions(scene);
       h5.append("membrane", "position", s64, time, pos.data(), std::size_t(scene.num_membrane()), 3);
     }
@@ -504,10 +584,15 @@ RunResult run_constriction(const Parameters& par, const cli::DriverApp& app, con
       r.status = "blocked (stalled)";
       break;
     }
+    if (last) break;
+    ++samples;
+    if (governor.revise(scene, time)) derive_step_counts();
+    next_sample = step + sample_every;
   }
   progress.finish();
   r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  r.steps = double(std::min(step, max_steps));
+  r.steps = double(step);
+  governor.report(dt);
   r.particle_steps_per_second = r.steps * scene.num_particles() / r.wall_seconds;
   if (!std::isnan(t_out)) {
     r.passage_time = t_out - t_in;
@@ -638,34 +723,49 @@ void shear_runs(const Parameters& par, const cli::DriverApp& app) {
     capsule::CapsuleScene<Real, Exec> scene(sp);
     const double dt = double(scene.system().dt());
     const double gamma = phys.shear_rate;
-    const long max_steps = long(std::ceil(par.t_max / (gamma * dt)));
-    const long sample_every = std::max(1L, long(std::lround(par.sample_every / (gamma * dt))));
+    StepGovernor governor(dt, par.dt == 0, app.quiet(), 1 / gamma, "1/shear rate");
+    const long max_steps = long(std::ceil(par.t_max / (gamma * dt)));  // at the starting step: an estimate
+    long sample_every = std::max(1L, long(std::lround(par.sample_every / (gamma * dt))));
     std::ofstream series(run + "_series.csv");
-    series << "shear_time,taylor_deformation,inclination_over_pi,max_density_deviation\n" << std::setprecision(8);
+    series << "shear_time,taylor_deformation,inclination_over_pi,max_density_deviation,dt_gamma\n"
+           << std::setprecision(8);
     std::vector<double> t_s, D_s, th_s;
     double dens_max = 0;
     const auto t0 = std::chrono::steady_clock::now();
     cli::ProgressLine progress(max_steps, scene.num_particles(), !app.quiet());
     watchdog::NanWatchdog watch(scene.watched(), par.check_every);
-    for (long step = 0; step <= max_steps; ++step) {
+    double t_lattice = 0;  // simulated time, lattice units (the step may change)
+    for (long step = 0, next_sample = 0;; ++step) {
       if (step > 0) {
+        const double h = governor.dt();
         scene.step();
+        t_lattice += h;
         watch.after_step();
         progress.update(step);
       }
-      if (step % sample_every != 0) continue;
+      const bool last = t_lattice * gamma >= par.t_max * (1 - 1e-12);
+      if (step < next_sample) {
+        if (last) break;
+        continue;
+      }
       watch.check();  // nothing is sampled or written from a non-finite state
       const auto s = capsule::shear_plane_shape(scene.outer_layer_positions());
       const double dens = scene.max_density_deviation();
-      check_not_diverged(dens, step, double(step) * gamma * dt, "1/shear rate");
+      const double t = t_lattice * gamma;
+      check_not_diverged(dens, step, t, "1/shear rate");
       dens_max = std::max(dens_max, dens);
-      const double t = double(step) * dt * gamma;
-      series << t << "," << s.taylor << "," << s.inclination / pi << "," << dens << std::endl;
+      series << t << "," << s.taylor << "," << s.inclination / pi << "," << dens << "," << governor.dt() * gamma
+             << std::endl;
       t_s.push_back(t);
       D_s.push_back(s.taylor);
       th_s.push_back(s.inclination / pi);
+      if (last) break;
+      if (governor.revise(scene, t))
+        sample_every = std::max(1L, long(std::lround(par.sample_every / (gamma * governor.dt()))));
+      next_sample = step + sample_every;
     }
     progress.finish();
+    governor.report(dt);
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     // Steady values: the last 30% of the run.
     double sD = 0, sD2 = 0, sT = 0, sT2 = 0;

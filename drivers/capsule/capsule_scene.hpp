@@ -50,7 +50,8 @@
 // C_c h/c, force C_f √(h/|a|) with the bond forces among the accelerations) and the bond limit
 // Δt_bond = C_b min_i √(m_i/K_i) (harmonic_bonds.hpp; K_i the summed stiffness of particle i's
 // bonds, C_b = 0.5), at the initial state after the first force evaluation; a given dt above that
-// limit is refused.
+// limit is refused. While a run goes on, running_time_step_limits() re-evaluates the state-
+// dependent ones, which capsule.cpp's automatic step follows.
 //
 // c0 of eq. (6): by default 10 U for the expected largest speed U (§2.2: "at least one order of
 // magnitude larger than the maximum velocity", for density variations below 1%). The membrane's
@@ -207,7 +208,7 @@ struct CapsuleTimeStepLimits {
     const std::string b = binding();
     if (b == "bond") return "membrane bonds k_b (eq. 7)";
     if (b == "viscous") return "viscosity ν (Δt ≤ C_ν h²/ν)";
-    if (b == "acoustic") return "sound speed c0 (Δt ≤ C_c h/c0)";
+    if (b == "acoustic") return "largest sound speed c (Δt ≤ C_c h/c; c = c0 at ρ0)";
     if (b == "force") return "largest acceleration |a| (Δt ≤ C_f √(h/|a|))";
     return "acoustic-viscous coupling (Δt ≤ 2ν/c0²)";
   }
@@ -276,6 +277,19 @@ class CapsuleScene {
   }
   // The limits at the initial state (after the first force evaluation), which chose dt.
   const CapsuleTimeStepLimits& initial_time_step_limits() const { return limits_; }
+  // The limits a running step must keep to (the constriction driver lowers its automatic step to
+  // them): the per-step criteria at the current state — viscous with the current ν = μ/ρ, acoustic
+  // with the current largest sound speed (the Tait c of eq. 6 grows as (ρ/ρ0)³ where the capsule
+  // squeezes the fluid), force with the current accelerations — and, as at the start, the bonds'
+  // and the acoustic–viscous limit at c0: a bound on the growth of waves through the bulk,
+  // derived and measured for the reference sound speed (sph_time_step.hpp), which a few
+  // compressed particles do not move (docs/sph-capsules.md, "Resolution study").
+  CapsuleTimeStepLimits running_time_step_limits() const {
+    CapsuleTimeStepLimits l = time_step_limits();
+    l.sph.acoustic_viscous = limits_.sph.acoustic_viscous;
+    return l;
+  }
+  void set_dt(double dt) { sys_.set_dt(Real(dt)); }
 
   // The outer layer's vertices (vertex order of the mesh), unwrapped about vertex 0 by the minimum
   // image: one connected surface, possibly reaching past the box on periodic axes (host copy).

@@ -104,6 +104,30 @@ TEST(CapsuleScene, BuildsFluidsAndMembraneWithTheMassOfTheRemovedFluid) {
               scene.surface_shear_modulus());
 }
 
+// The limits a running step keeps to (CapsuleScene::running_time_step_limits) follow the state:
+// compressing one fluid particle to ρ = 1.2 ρ0 raises the largest Tait sound speed by
+// (ρ/ρ0)^((γ−1)/2) = 1.2³ (eq. 6, γ = 7), so the acoustic limit falls by that factor; the
+// acoustic–viscous limit stays at its value for c0, which the full re-evaluation
+// (time_step_limits) would lower by 1.2⁷ (c² by 1.2⁶, and the particle's ν = μ/ρ, the smallest, by
+// 1.2); the bond limit does not change.
+TEST(CapsuleScene, RunningLimitsFollowTheLargestSoundSpeed) {
+  auto par = small_scene();
+  par.sph.sort_every = 0;
+  const CapsuleScene<double, Exec> scene(par);
+  const auto start = scene.initial_time_step_limits();
+  const auto before = scene.running_time_step_limits();
+  EXPECT_EQ(before.sph.acoustic, start.sph.acoustic);
+  EXPECT_EQ(before.sph.acoustic_viscous, start.sph.acoustic_viscous);
+  ASSERT_EQ(host_copy(scene.system().particles.type)(0), sph::particle_type::fluid);
+  auto rho = scene.system().rho;
+  Kokkos::deep_copy(Kokkos::subview(rho, 0), 1.2 * par.rho0);
+  const auto now = scene.running_time_step_limits();
+  EXPECT_NEAR(start.sph.acoustic / now.sph.acoustic, 1.2 * 1.2 * 1.2, 1e-12);
+  EXPECT_EQ(now.sph.acoustic_viscous, start.sph.acoustic_viscous);
+  EXPECT_EQ(now.bond, start.bond);
+  EXPECT_NEAR(start.sph.acoustic_viscous / scene.time_step_limits().sph.acoustic_viscous, std::pow(1.2, 7), 1e-9);
+}
+
 // The body force of eq. (2) accelerates the fluids (outer and inner) and not the membrane (§4):
 // at rest, with ρ = ρ0 everywhere (p = 0) and the membrane at its rest lengths, the first force
 // evaluation is exactly m g on the fluids and exactly zero on the membrane.
