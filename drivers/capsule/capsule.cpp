@@ -40,14 +40,14 @@
 // capsule squeezes the fluid the Tait sound speed grows as (ρ/ρ0)³, and a step kept at its starting
 // value diverged (Π = 16 at the slot's entrance, docs/sph-capsules.md, "Resolution study"). A step
 // given with --dt is kept, with one warning when the running limit falls below it. Sample times
-// stay --sample-every apart to within a step; the series records the step and the limits. c0 of eq. (6), for density
-// variations δ = --density-variation (default 1%, the paper's; tait_equation_of_state.hpp): the
-// largest of U/√δ, Morris et al.'s viscous criterion √(ν U/(L δ)) with L = t_c/2 (shear: L_y/2),
-// their body-force criterion √(2 g₀ L_x/δ) — the pressure drop along the channel at twice the
-// starting body force g₀ (the controller raises g by up to 1.6 times while the capsule plugs the
-// constriction, measured at Π = 12, Ca = 0.25), which at low Re is the largest — and the
-// membrane's √(Δp/(ρ0 δ)) for the pressure jump Δp = 2 G_s ε/a at a membrane strain
-// ε = --membrane-strain (default 5%); or --c0.
+// stay --sample-every apart to within a step; the series records the step and the limits.
+// c0 of eq. (6), for density variations δ = --density-variation (default 1%, the paper's;
+// tait_equation_of_state.hpp): the largest of U/√δ, Morris et al.'s viscous criterion √(ν U/(L δ))
+// with L = t_c/2 (shear: L_y/2), their body-force criterion √(2 g₀ L_x/δ) — the pressure drop along
+// the channel at twice the starting body force g₀ (the controller raises g by up to 1.6 times while
+// the capsule plugs the constriction, measured at Π = 12, Ca = 0.25), which at low Re is the
+// largest — and the membrane's √(Δp/(ρ0 δ)) for the pressure jump Δp = 2 G_s ε/a at a membrane
+// strain ε = --membrane-strain (default 5%); or --c0.
 //
 // Output, for --output <out>.h5: per run <out>_ca<Ca>_eta<η>.h5 (H5MD: the membrane's positions
 // every --frame-every, the measures as observables, the parameters) with its .xdmf, _series.csv
@@ -121,11 +121,10 @@ class StepGovernor {
   double dt() const { return dt_; }
   long lowered() const { return lowered_; }
 
-  // At a sample at time t (run units). Returns true when the step was lowered (the caller then
-  // re-derives its step counts).
+  // At a sample at time t (run units), with the scene's running limits there. Returns true when
+  // the step was lowered (the caller then re-derives its step counts).
   template <class Scene>
-  bool revise(Scene& scene, double t) {
-    const auto limits = scene.running_time_step_limits();
+  bool revise(Scene& scene, const capsule::CapsuleTimeStepLimits& limits, double t) {
     const double limit = limits.dt();
     if (!(dt_ > limit)) return false;
     if (!automatic_) {
@@ -586,7 +585,7 @@ RunResult run_constriction(const Parameters& par, const cli::DriverApp& app, con
     }
     if (last) break;
     ++samples;
-    if (governor.revise(scene, time)) derive_step_counts();
+    if (governor.revise(scene, limits, time)) derive_step_counts();
     next_sample = step + sample_every;
   }
   progress.finish();
@@ -760,7 +759,7 @@ void shear_runs(const Parameters& par, const cli::DriverApp& app) {
       D_s.push_back(s.taylor);
       th_s.push_back(s.inclination / pi);
       if (last) break;
-      if (governor.revise(scene, t))
+      if (governor.revise(scene, scene.running_time_step_limits(), t))
         sample_every = std::max(1L, long(std::lround(par.sample_every / (gamma * governor.dt()))));
       next_sample = step + sample_every;
     }
