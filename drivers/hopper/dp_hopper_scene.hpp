@@ -136,6 +136,7 @@ struct DpHopperParameters {
   double wall_energy = 100;          // E_w (idem)
   double drag = 0;                   // ζ/ζ0, eq. 11
   double friction = 0;               // μ/μ0, eq. 12
+  sp::FrictionComponent friction_component = sp::FrictionComponent::full;  // as in HopperParameters
   bool smooth = false;               // false: rough vertex disks δ = l0; true: circulo-lines δ = 0.1 l0
   double dt = dp_paper_dt;           // Δt/t0; 0: min(10⁻³, 0.9 × limit)
   unsigned long long seed = 1;
@@ -265,7 +266,7 @@ class DpHopperScene {
       dp::require_same_body_exclusion(list_);
       pair_.accumulate_forces(contacts_, p_, list_, box_);
     }
-    dp::accumulate_vertex_friction(Real(par_.friction), contacts_, p_, velocity, list_, box_);
+    dp::accumulate_vertex_friction(Real(par_.friction), contacts_, p_, velocity, list_, box_, par_.friction_component);
     sp::accumulate_wall_repulsion(Real(par_.wall_energy), contacts_, walls_, p_, wall_candidates_);
     dp::accumulate_vertex_drag(Real(par_.drag), polygons_, p_, velocity);
     vv_.second_half(p_);
@@ -388,7 +389,8 @@ class DpHopperScene {
                        })});
     if (par_.friction > 0)
       w.terms.push_back({"kinetic friction μ (eq. 12)", alone([this] {
-                           dp::accumulate_vertex_friction(Real(par_.friction), contacts_, p_, p_.v, list_, box_);
+                           dp::accumulate_vertex_friction(Real(par_.friction), contacts_, p_, p_.v, list_, box_,
+                                                           par_.friction_component);
                          }),
                          true});
     if (par_.drag > 0)

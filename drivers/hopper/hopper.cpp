@@ -134,6 +134,7 @@ struct Parameters {
   hopper::DpHopperParameters dp;
   hopper::FlowSettings flow;
   std::string model = "sp";
+  std::string friction_component = "full";  // --friction-component
   double dt = 0;  // 0: automatic
   std::string widths = "4,5,6,7,8";
   std::string dimension = "2";
@@ -468,6 +469,10 @@ int main(int argc, char** argv) {
   app.add_real("--wall-angle", s.wall_angle, "exit-wall angle θ_w in degrees", 0.0, 90.0, Bounds::left_open);
   app.add_real("--drag", s.drag, "drag ζ/ζ0 (eq. 5; dp: eq. 11)", 0.0, 1e4);
   app.add_real("--friction", s.friction, "kinetic friction μ/μ0 (eq. 6; dp: eq. 12, rough contacts only)", 0.0, 1e4);
+  app.add_choice("--friction-component", par.friction_component,
+                 "the part of the contact's relative velocity that friction damps: full (eqs. 6, 12 as printed) or "
+                 "tangential (perpendicular to the centre-to-centre vector, as the authors' public code)",
+                 {"full", "tangential"});
   app.add_real("--dt", par.dt, "time step Δt/t0; 0: min(1e-3, 0.9 × stability limit); larger than the limit is refused",
                0.0, 0.01);
   app.add_flag(mesoflow::cli::force_dt_flag, s.force_dt, mesoflow::cli::force_dt_help);
@@ -505,6 +510,7 @@ int main(int argc, char** argv) {
     if ((par.vary == "perimeter-stiffness" || par.vary == "bending") && par.model != "dp")
       throw std::invalid_argument("--vary " + par.vary + ": needs --model dp");
     if (par.vary.empty() && !par.values.empty()) throw std::invalid_argument("--values: needs --vary");
+    s.friction_component = d.friction_component = mesoflow::sp::parse_friction_component(par.friction_component);
     ranks.start();
     mesoflow::KokkosScope kokkos(par.threads);
     const int dim = par.dimension == "2" ? 2 : 3;
@@ -520,6 +526,7 @@ int main(int argc, char** argv) {
           d.wall_angle = p.scene.wall_angle;
           d.drag = p.scene.drag;
           d.friction = p.scene.friction;
+          d.friction_component = p.scene.friction_component;
           d.seed = p.scene.seed;
           d.dt = p.dt;
           d.force_dt = p.scene.force_dt;

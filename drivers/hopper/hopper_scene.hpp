@@ -70,6 +70,7 @@ struct HopperParameters {
   double wall_energy = 1e4;      // E_w (§2.2)
   double drag = 0.0;             // ζ/ζ0
   double friction = 0.0;         // μ/μ0
+  sp::FrictionComponent friction_component = sp::FrictionComponent::full;  // eq. 6 as printed, or tangential only
   double dt = 1e-3;              // Δt/t0 (§2.2)
   unsigned long long seed = 1;
   bool force_dt = false;         // run a dt above the stability limit (a warning instead of an error)
@@ -172,7 +173,7 @@ class HopperScene {
     gravity_forces(gravity_on_);
     pair_.accumulate_forces(contacts_, p_, list_, box_);
     sp::accumulate_wall_repulsion(Real(par_.wall_energy), contacts_, walls_, p_, wall_candidates_);
-    sp::accumulate_kinetic_friction(Real(par_.friction), contacts_, p_, velocity, list_, box_);
+    sp::accumulate_kinetic_friction(Real(par_.friction), contacts_, p_, velocity, list_, box_, par_.friction_component);
     sp::accumulate_mass_proportional_drag(Real(par_.drag), p_, velocity);
     vv_.second_half(p_);
     ++steps_;
@@ -266,7 +267,8 @@ class HopperScene {
                 })}};
     if (par_.friction > 0)
       w.terms.push_back({"kinetic friction μ (eq. 6)", alone([this] {
-                           sp::accumulate_kinetic_friction(Real(par_.friction), contacts_, p_, p_.v, list_, box_);
+                           sp::accumulate_kinetic_friction(Real(par_.friction), contacts_, p_, p_.v, list_, box_,
+                                                            par_.friction_component);
                          }),
                          true});
     if (par_.drag > 0)

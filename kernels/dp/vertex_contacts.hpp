@@ -39,14 +39,16 @@ double accumulate_vertex_contacts(const VertexContactRepulsion<Real>& contacts, 
   return pair.accumulate(contacts, p, list, box);
 }
 
-// Adds eq. 12's friction to p.f (full list; skipped at μ = 0).
+// Adds eq. 12's friction to p.f (full list; skipped at μ = 0); `component` as in kinetic_friction.hpp
+// (tangential: the part of v_mi − v_nj perpendicular to the vertex–vertex vector).
 template <class Real, class ExecSpace>
 void accumulate_vertex_friction(Real mu, const VertexContactRepulsion<Real>& contacts,
                                 const Particles<2, Real, ExecSpace>& p,
                                 const typename Particles<2, Real, ExecSpace>::vector_view& velocity,
-                                const NeighborList<2, Real, ExecSpace>& list, const Box<2, Real>& box) {
+                                const NeighborList<2, Real, ExecSpace>& list, const Box<2, Real>& box,
+                                sp::FrictionComponent component = sp::FrictionComponent::full) {
   require_same_body_exclusion(list);
-  sp::accumulate_kinetic_friction(mu, contacts, p, velocity, list, box);
+  sp::accumulate_kinetic_friction(mu, contacts, p, velocity, list, box, component);
 }
 
 }  // namespace mesoflow::dp

@@ -1,7 +1,8 @@
 // The soft-particle many-body terms of the hopper study (kernels/sp/): the bidisperse soft-sphere
 // repulsion (eq. 2) is minus the gradient of its energy (central finite differences, 2D and 3D, full
 // and half lists agree); kinetic friction (eq. 6) acts only between overlapping particles, pair by
-// pair equal and opposite, conserves total momentum and dissipates exactly −(μ/2) Σ |v_m − v_n|²;
+// pair equal and opposite, conserves total momentum and dissipates exactly −(μ/2) Σ |v_m − v_n|²
+// (tangential variant: the same with the part of v_m − v_n along r_mn removed);
 // the drag of eq. 5 is −ζ M v; a zero coefficient leaves the forces untouched.
 #include "kernels/common/pair_force.hpp"
 #include "kernels/sp/kinetic_friction.hpp"
@@ -106,13 +107,15 @@ TEST(SoftSphereRepulsion, HalfListGivesTheFullListForces) {
 }
 
 // Against a brute force over all pairs: each particle's friction, the power
-// Σ_m F_m·v_m = −μ Σ_{m<n} |v_m − v_n|² Θ(1 − r_mn/σ_mn), and Σ_m F_m = 0 to round-off.
+// Σ_m F_m·v_m = −μ Σ_{m<n} |Δv|² Θ(1 − r_mn/σ_mn) (Δv = v_m − v_n, or its part perpendicular to r_mn
+// for the tangential variant), and Σ_m F_m = 0 to round-off.
 template <int D>
-void expect_friction_conserves_momentum_and_dissipates() {
+void expect_friction_conserves_momentum_and_dissipates(sp::FrictionComponent component = sp::FrictionComponent::full) {
+  const bool tangential = component == sp::FrictionComponent::tangential;
   Packing<D> s(120, D == 2 ? 8.0 : 4.2, 7);
   const double mu = 0.7;
   s.p.zero_forces();
-  sp::accumulate_kinetic_friction(mu, s.contacts, s.p, s.p.v, s.list, s.box);
+  sp::accumulate_kinetic_friction(mu, s.contacts, s.p, s.p.v, s.list, s.box, component);
   auto f = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), s.p.f);
   auto x = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), s.p.x);
   auto v = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), s.p.v);
@@ -124,18 +127,22 @@ void expect_friction_conserves_momentum_and_dissipates() {
   for (int i = 0; i < n; ++i)
     for (int j = 0; j < n; ++j) {
       if (i == j) continue;
-      double r2 = 0;
+      double r2 = 0, dx[D];
       for (int d = 0; d < D; ++d) {
-        double dx = x(i, d) - x(j, d);
-        dx -= s.box.length[d] * std::round(dx / s.box.length[d]);
-        r2 += dx * dx;
+        dx[d] = x(i, d) - x(j, d);
+        dx[d] -= s.box.length[d] * std::round(dx[d] / s.box.length[d]);
+        r2 += dx[d] * dx[d];
       }
       const double sij = s.contacts.contact[type(i)][type(j)];
       if (r2 >= sij * sij) continue;
       ++contacts;
-      for (int d = 0; d < D; ++d) brute[std::size_t(i) * D + d] -= mu * (v(i, d) - v(j, d));
+      double dv[D], along = 0;
+      for (int d = 0; d < D; ++d) dv[d] = v(i, d) - v(j, d), along += dv[d] * dx[d] / r2;
+      if (tangential)
+        for (int d = 0; d < D; ++d) dv[d] -= along * dx[d];
+      for (int d = 0; d < D; ++d) brute[std::size_t(i) * D + d] -= mu * dv[d];
       if (i < j)
-        for (int d = 0; d < D; ++d) expected_power -= mu * (v(i, d) - v(j, d)) * (v(i, d) - v(j, d));
+        for (int d = 0; d < D; ++d) expected_power -= mu * dv[d] * dv[d];
     }
   for (int i = 0; i < n; ++i)
     for (int d = 0; d < D; ++d) {
@@ -144,7 +151,7 @@ void expect_friction_conserves_momentum_and_dissipates() {
       total[d] += f(i, d);
       magnitude += std::abs(f(i, d));
     }
-  std::cout << "[ friction ] " << D << "D: " << contacts / 2 << " contacts, |Σ F| = "
+  std::cout << "[ friction ] " << D << "D " << sp::to_string(component) << ": " << contacts / 2 << " contacts, |Σ F| = "
             << std::sqrt([&] { double t = 0; for (double c : total) t += c * c; return t; }()) << " (Σ|F| = " << magnitude
             << "), power " << power << " vs " << expected_power << "\n";
   EXPECT_GT(contacts, n);  // dense: several contacts per particle
@@ -155,6 +162,49 @@ void expect_friction_conserves_momentum_and_dissipates() {
 
 TEST(KineticFriction, ConservesMomentumAndDissipates2D) { expect_friction_conserves_momentum_and_dissipates<2>(); }
 TEST(KineticFriction, ConservesMomentumAndDissipates3D) { expect_friction_conserves_momentum_and_dissipates<3>(); }
+TEST(KineticFriction, TangentialConservesMomentumAndDissipates2D) {
+  expect_friction_conserves_momentum_and_dissipates<2>(sp::FrictionComponent::tangential);
+}
+TEST(KineticFriction, TangentialConservesMomentumAndDissipates3D) {
+  expect_friction_conserves_momentum_and_dissipates<3>(sp::FrictionComponent::tangential);
+}
+
+// Two overlapping particles, tangential friction: a head-on relative velocity is not damped at all,
+// a sliding one is damped as in eq. 6, and a mixed one loses exactly its component along r_12; the
+// two forces are exact negatives (bitwise) and perpendicular to r_12.
+TEST(KineticFriction, TangentialDampsOnlySliding) {
+  const sp::SoftSphereRepulsion<double> c(1.0, {kSmall, kLarge});
+  const Box<2, double> box = Box<2, double>::cube(10.0, true);
+  struct Case { double vx0, vy0, vx1, vy1, fx0, fy0; };
+  // x_1 − x_0 = 1.1 n, n = (0.6, 0.8) (1.1 < σ_sl = 1.2); t = (0.8, −0.6) the sliding direction.
+  for (const Case k : {Case{0.3, 0.4, -0.3, -0.4, 0.0, 0.0},                 // Δv = (0.6, 0.8): head-on
+                       Case{0.4, -0.3, -0.4, 0.3, -0.5 * 0.8, 0.5 * 0.6},    // Δv = (0.8, −0.6): sliding
+                       Case{1.0, 0.2, 0.0, 0.0, -0.5 * 0.544, 0.5 * 0.408}}) {  // Δv = (1, 0.2) = 0.76 n + 0.68 t
+    Particles<2, double, Exec> p(2, "pair");
+    auto x = Kokkos::create_mirror_view(p.x);
+    auto v = Kokkos::create_mirror_view(p.v);
+    auto type = Kokkos::create_mirror_view(p.type);
+    x(0, 0) = 1.0, x(0, 1) = 1.0, x(1, 0) = 1.0 + 0.6 * 1.1, x(1, 1) = 1.0 + 0.8 * 1.1;
+    v(0, 0) = k.vx0, v(0, 1) = k.vy0, v(1, 0) = k.vx1, v(1, 1) = k.vy1;
+    type(0) = 0, type(1) = 1;
+    Kokkos::deep_copy(p.x, x);
+    Kokkos::deep_copy(p.v, v);
+    Kokkos::deep_copy(p.type, type);
+    NeighborList<2, double, Exec> list(c.cutoff(), 0.3);
+    list.build(p, box);
+    p.zero_forces();
+    sp::accumulate_kinetic_friction(0.5, c, p, p.v, list, box, sp::FrictionComponent::tangential);
+    auto f = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), p.f);
+    EXPECT_EQ(f(0, 0), -f(1, 0));
+    EXPECT_EQ(f(0, 1), -f(1, 1));
+    EXPECT_NEAR(f(0, 0), k.fx0, 1e-14);
+    EXPECT_NEAR(f(0, 1), k.fy0, 1e-14);
+    EXPECT_NEAR(f(0, 0) * 0.6 + f(0, 1) * 0.8, 0.0, 1e-14);  // perpendicular to r_01
+  }
+  EXPECT_EQ(sp::parse_friction_component("tangential"), sp::FrictionComponent::tangential);
+  EXPECT_EQ(sp::parse_friction_component("full"), sp::FrictionComponent::full);
+  EXPECT_THROW(sp::parse_friction_component("normal"), std::invalid_argument);
+}
 
 // Two particles: the forces are exact negatives (bitwise), −μ(v_1 − v_2) while they overlap and zero
 // once they are apart.
