@@ -1,7 +1,8 @@
 // crystal — a one-dimensional microfluidic crystal of flattened droplets (rigid discs) carried by
 // an MPC-AT+a solvent through a 2D channel, and its phonons (mpc-microfluidic-crystal-phonons
 // paper, §4 and Appendix B). Every run also measures the velocity ratio K = u_d/u_oil, so the
-// single-droplet calibration run of Appendix B is `crystal --discs 1 --length 150`.
+// single-droplet calibration run of Appendix B is `crystal --discs 1`; with one disc K is also given
+// against the oil speed far from it, across the width and on the axis (docs/mpc.md, "K of a single disc").
 //
 // Units (Appendix B): cell size Δx, solvent particle mass m, k_BT; time τ = Δx √(m/k_BT). The
 // defaults are the paper's scene: R = 5Δx, h = 0.005τ, n = 40 particles per cell (ρ = 40 m/Δx²),
@@ -16,7 +17,10 @@
 // Output (<out> = --output without its extension): <out>.h5 (H5MD: disc positions, unwrapped
 // along x, and velocities every --frame-interval; observables u_oil (mean solvent velocity), u_d
 // (mean disc velocity); parameters as attributes), <out>.xdmf, <out>.csv (the observables),
-// <out>.json (K, u_d, u_oil, Re, Pe, B, β, v_p, speed), and for two or more discs
+// <out>.json (K, u_d, u_oil, Re, Pe, B, β, v_p, speed; for one disc also "far_field": the oil speed
+// far from the disc, mean and on the axis, and K against each, with the profile in
+// <out>_far_profile.csv and the two speeds per frame as observables u_far_mean, u_far_axis), and
+// for two or more discs
 // <out>_phonons.h5 (power spectra of eqs. 1-2, theory curves of eqs. 3, 4, 8, 11-14, correlation
 // eq. 5; drivers/crystal/phonon_spectra.hpp), <out>_theory.csv and <out>_phonons.png
 // (scripts/plot_crystal.py). Frames before --warmup are written but left out of K and the spectra.
@@ -34,6 +38,7 @@
 #include "kernels/mpc/channel_flow.hpp"
 #include "kernels/mpc/stability.hpp"
 
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <fstream>
@@ -113,6 +118,34 @@ struct Record {
   std::vector<std::int64_t> steps;
   std::vector<double> x, y;          // unwrapped centres, frame-major
   std::vector<double> u_d, u_oil;    // per frame
+  std::vector<double> far_sum, far_count;  // one disc: Σ v_x and samples per height bin, far from the disc
+};
+
+// One disc: the solvent's velocity profile u_x(y) far from the disc (periodic distance along x from
+// its centre at least R + W, where a disc's disturbance of channel flow has decayed to
+// e^{−4.2} ≈ 1.5% of it), in bins of half a cell across the channel, summed over the measured
+// frames. Its centre-line value is the undisturbed oil speed on the axis where the disc sits, and its
+// mean the undisturbed mean oil speed; K is given against both (docs/mpc.md, "K of a single disc").
+struct FarField {
+  double from_disc = 0;  // R + W
+  int bins = 0;
+  double bin_width = 0;
+  bool enabled(double length) const { return bins > 0 && length > 2 * from_disc; }
+  // {mean, axis} speed of per-bin sums: the mean over every sample, the axis over the bins within
+  // half a cell of y = W/2; 0 where a bin set is empty.
+  std::array<double, 2> speeds(const std::vector<double>& sum, const std::vector<double>& count, double width,
+                               double cell) const {
+    double s = 0, c = 0, as = 0, ac = 0;
+    for (int b = 0; b < bins; ++b) {
+      s += sum[std::size_t(b)];
+      c += count[std::size_t(b)];
+      if (std::abs((b + 0.5) * bin_width - 0.5 * width) < 0.5 * cell) {
+        as += sum[std::size_t(b)];
+        ac += count[std::size_t(b)];
+      }
+    }
+    return {c > 0 ? s / c : 0.0, ac > 0 ? as / ac : 0.0};
+  }
 };
 
 template <class Real>
@@ -153,6 +186,15 @@ void run(const Parameters& par, const cli::DriverApp& app) {
   const std::int64_t checkpoint_steps = std::max<std::int64_t>(1, steps_of(par.checkpoint_interval));
 
   Record rec;
+  FarField far;
+  if (nd == 1) {
+    far.from_disc = f.disc_radius + f.width;
+    far.bins = int(std::llround(2 * f.width / f.cell_size));
+    far.bin_width = f.width / double(far.bins);
+    if (!far.enabled(f.length)) far.bins = 0;
+  }
+  rec.far_sum.assign(std::size_t(far.bins), 0.0);
+  rec.far_count.assign(std::size_t(far.bins), 0.0);
   std::vector<double> last_folded(nd), image_shift(nd, 0.0);
   std::optional<io::H5mdWriter> h5;
   if (par.restart) {
@@ -180,6 +222,12 @@ void run(const Parameters& par, const cli::DriverApp& app) {
     ck.get("record/y", rec.y);
     ck.get("record/u_d", rec.u_d);
     ck.get("record/u_oil", rec.u_oil);
+    if (far.bins > 0) {
+      if (!ck.has("record/far_sum"))
+        throw std::runtime_error(out.checkpoint + ": written before the far-field profile was recorded; run again without --restart");
+      ck.get("record/far_sum", rec.far_sum);
+      ck.get("record/far_count", rec.far_count);
+    }
     ck.get("record/last_folded", last_folded);
     ck.get("record/image_shift", image_shift);
     const std::int64_t step = ck.get_scalar_int64("step");
@@ -226,6 +274,30 @@ void run(const Parameters& par, const cli::DriverApp& app) {
     }
     rec.u_d.push_back(ud);
     rec.u_oil.push_back(uoil);
+    if (far.bins > 0) {
+      // A host copy of the solvent once per frame (hundreds of steps apart), for the far field only:
+      // this frame's mean and axis speeds as observables, the profile summed over measured frames.
+      const auto xs = driver::to_row_major(flow.positions());
+      const auto vs = driver::to_row_major(flow.velocities());
+      const double xd = double(X[0]);
+      std::vector<double> sum(std::size_t(far.bins), 0.0), count(std::size_t(far.bins), 0.0);
+      for (std::size_t i = 0; i < flow.num_solvent(); ++i) {
+        double dx = double(xs[2 * i]) - xd;
+        dx -= f.length * std::round(dx / f.length);
+        if (std::abs(dx) < far.from_disc) continue;
+        const int b = std::min(far.bins - 1, std::max(0, int(double(xs[2 * i + 1]) / far.bin_width)));
+        sum[std::size_t(b)] += double(vs[2 * i]);
+        count[std::size_t(b)] += 1.0;
+      }
+      const auto [u_mean, u_axis] = far.speeds(sum, count, f.width, f.cell_size);
+      h5->append_observable("u_far_mean", step, t, u_mean);
+      h5->append_observable("u_far_axis", step, t, u_axis);
+      if (step >= warmup_steps)
+        for (int b = 0; b < far.bins; ++b) {
+          rec.far_sum[std::size_t(b)] += sum[std::size_t(b)];
+          rec.far_count[std::size_t(b)] += count[std::size_t(b)];
+        }
+    }
   };
   const auto checkpoint = [&] {
     h5->flush();
@@ -244,6 +316,10 @@ void run(const Parameters& par, const cli::DriverApp& app) {
     put("record/y", rec.y, 0);
     put("record/u_d", rec.u_d, 0);
     put("record/u_oil", rec.u_oil, 0);
+    if (far.bins > 0) {
+      put("record/far_sum", rec.far_sum, 0);
+      put("record/far_count", rec.far_count, 0);
+    }
     put("record/last_folded", last_folded, 0);
     put("record/image_shift", image_shift, 0);
     ck.put_scalar("step", std::int64_t(flow.steps_done()));
@@ -291,7 +367,10 @@ void run(const Parameters& par, const cli::DriverApp& app) {
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
   h5->write_xdmf(out.xdmf);
   h5.reset();
-  driver::write_observables_csv(out.trajectory, out.csv, {"u_oil", "u_d"});
+  if (far.bins > 0)
+    driver::write_observables_csv(out.trajectory, out.csv, {"u_oil", "u_d", "u_far_mean", "u_far_axis"});
+  else
+    driver::write_observables_csv(out.trajectory, out.csv, {"u_oil", "u_d"});
 
   // Measured frames: step >= warmup (the frame at the warmup step included).
   std::size_t first_frame = 0;
@@ -315,6 +394,22 @@ void run(const Parameters& par, const cli::DriverApp& app) {
        << ",\n  \"u_d\": " << ud << ",\n  \"u_oil\": " << uoil << ",\n  \"K\": " << K
        << ",\n  \"wall_virtual\": \"" << par.wall_virtual << "\""
        << ",\n  \"viscosity_b3\": " << eta << ",\n  \"reynolds\": " << reynolds << ",\n  \"peclet\": " << peclet;
+  if (far.bins > 0) {
+    // The far-field profile over the measured frames, its mean and its centre line.
+    std::ofstream csv(base + "_far_profile.csv");
+    csv << std::setprecision(10) << "y,u_x,samples\n";
+    for (int b = 0; b < far.bins; ++b) {
+      const double c = rec.far_count[std::size_t(b)];
+      csv << (b + 0.5) * far.bin_width << "," << (c > 0 ? rec.far_sum[std::size_t(b)] / c : 0.0) << "," << c << "\n";
+    }
+    const auto [u_far, u_axis] = far.speeds(rec.far_sum, rec.far_count, f.width, f.cell_size);
+    json << ",\n  \"far_field\": {\"from_disc\": " << far.from_disc << ", \"u_mean\": " << u_far
+         << ", \"u_axis\": " << u_axis << ", \"K_mean\": " << (u_far != 0 ? ud / u_far : 0.0)
+         << ", \"K_axis\": " << (u_axis != 0 ? ud / u_axis : 0.0) << "}";
+    if (!app.quiet())
+      std::cout << "crystal: far from the disc (≥ " << far.from_disc << " Δx): mean oil speed " << u_far
+                << ", on the axis " << u_axis << "; u_d/u_axis = " << (u_axis != 0 ? ud / u_axis : 0.0) << "\n";
+  }
   if (nd >= 2) {
     const double spacing = f.length / double(nd);
     std::vector<double> x(rec.x.begin() + std::ptrdiff_t(first_frame * nd), rec.x.end());
