@@ -29,28 +29,34 @@ namespace {
 
 using Exec = Kokkos::DefaultExecutionSpace;
 
-void BM_SoftParticleContactForces2D(benchmark::State& state) {
-  const int n = int(state.range(0));
+// n bidisperse disks (σ = 1, 1.4, alternating) at random in a periodic square at packing fraction
+// 0.85, with small random velocities: most overlap several neighbours. Returns the box side.
+double dense_bidisperse_packing(Particles<2, double, Exec>& p) {
+  const int n = int(p.size());
   const double mean_area = 0.5 * (0.25 * M_PI * (1.0 + 1.4 * 1.4));
   const double L = std::sqrt(n * mean_area / 0.85);
-  Particles<2, double, Exec> p(n, "bench_sp");
-  {
-    std::mt19937 gen(1);
-    std::uniform_real_distribution<double> u(0, L), w(-0.1, 0.1);
-    auto x = Kokkos::create_mirror_view(p.x);
-    auto v = Kokkos::create_mirror_view(p.v);
-    auto type = Kokkos::create_mirror_view(p.type);
-    for (int i = 0; i < n; ++i) {
-      for (int d = 0; d < 2; ++d) {
-        x(i, d) = u(gen);
-        v(i, d) = w(gen);
-      }
-      type(i) = i % 2;
+  std::mt19937 gen(1);
+  std::uniform_real_distribution<double> u(0, L), w(-0.1, 0.1);
+  auto x = Kokkos::create_mirror_view(p.x);
+  auto v = Kokkos::create_mirror_view(p.v);
+  auto type = Kokkos::create_mirror_view(p.type);
+  for (int i = 0; i < n; ++i) {
+    for (int d = 0; d < 2; ++d) {
+      x(i, d) = u(gen);
+      v(i, d) = w(gen);
     }
-    Kokkos::deep_copy(p.x, x);
-    Kokkos::deep_copy(p.v, v);
-    Kokkos::deep_copy(p.type, type);
+    type(i) = i % 2;
   }
+  Kokkos::deep_copy(p.x, x);
+  Kokkos::deep_copy(p.v, v);
+  Kokkos::deep_copy(p.type, type);
+  return L;
+}
+
+void BM_SoftParticleContactForces2D(benchmark::State& state) {
+  const int n = int(state.range(0));
+  Particles<2, double, Exec> p(n, "bench_sp");
+  const double L = dense_bidisperse_packing(p);
   const Box<2, double> box = Box<2, double>::cube(L, true);
   const sp::SoftSphereRepulsion<double> contacts(100.0, {1.0, 1.4});
   NeighborList<2, double, Exec> list(contacts.cutoff(), 0.2);
@@ -65,6 +71,31 @@ void BM_SoftParticleContactForces2D(benchmark::State& state) {
       pair.accumulate(contacts, p, list, box);
       sp::accumulate_kinetic_friction(0.5, contacts, p, p.v, list, box);
       sp::accumulate_mass_proportional_drag(0.3, p, p.v);
+    }
+    Kokkos::fence();
+    state.SetIterationTime(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+  }
+  state.SetItemsProcessed(int64_t(state.iterations()) * evaluations * n);
+}
+
+// Kinetic friction (eq. 6) alone on the same packing; range(1): 0 the full relative velocity, 1 its
+// tangential part only (--friction-component tangential), measured in the same run.
+void BM_SoftParticleKineticFriction2D(benchmark::State& state) {
+  const int n = int(state.range(0));
+  const auto component = state.range(1) == 1 ? sp::FrictionComponent::tangential : sp::FrictionComponent::full;
+  Particles<2, double, Exec> p(n, "bench_sp_friction");
+  const double L = dense_bidisperse_packing(p);
+  const Box<2, double> box = Box<2, double>::cube(L, true);
+  const sp::SoftSphereRepulsion<double> contacts(100.0, {1.0, 1.4});
+  NeighborList<2, double, Exec> list(contacts.cutoff(), 0.2);
+  list.build(p, box);
+  const int evaluations = 20;
+  for (auto _ : state) {
+    Kokkos::fence();
+    const auto t0 = std::chrono::steady_clock::now();
+    for (int k = 0; k < evaluations; ++k) {
+      p.zero_forces();
+      sp::accumulate_kinetic_friction(0.5, contacts, p, p.v, list, box, component);
     }
     Kokkos::fence();
     state.SetIterationTime(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
@@ -166,6 +197,7 @@ void BM_DeformablePolygonContacts(benchmark::State& state) {
 BENCHMARK(BM_SoftParticleWallRepulsion2D)->Arg(20000)->UseManualTime()->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_DeformablePolygonContacts)->Args({1600, 0})->Args({1600, 1})->UseManualTime()->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_SoftParticleContactForces2D)->Arg(1600)->Arg(20000)->UseManualTime()->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_SoftParticleKineticFriction2D)->Args({20000, 0})->Args({20000, 1})->UseManualTime()->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace mesoflow
