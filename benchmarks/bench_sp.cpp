@@ -30,52 +30,61 @@ namespace {
 using Exec = Kokkos::DefaultExecutionSpace;
 
 // n bidisperse disks (σ = 1, 1.4, alternating) at random in a periodic square at packing fraction
-// 0.85, with small random velocities: most overlap several neighbours. Returns the box side.
-double dense_bidisperse_packing(Particles<2, double, Exec>& p) {
-  const int n = int(p.size());
-  const double mean_area = 0.5 * (0.25 * M_PI * (1.0 + 1.4 * 1.4));
-  const double L = std::sqrt(n * mean_area / 0.85);
-  std::mt19937 gen(1);
-  std::uniform_real_distribution<double> u(0, L), w(-0.1, 0.1);
-  auto x = Kokkos::create_mirror_view(p.x);
-  auto v = Kokkos::create_mirror_view(p.v);
-  auto type = Kokkos::create_mirror_view(p.type);
-  for (int i = 0; i < n; ++i) {
-    for (int d = 0; d < 2; ++d) {
-      x(i, d) = u(gen);
-      v(i, d) = w(gen);
-    }
-    type(i) = i % 2;
-  }
-  Kokkos::deep_copy(p.x, x);
-  Kokkos::deep_copy(p.v, v);
-  Kokkos::deep_copy(p.type, type);
-  return L;
-}
+// 0.85, with small random velocities: most overlap several neighbours; E_sp = 100 contacts and their
+// neighbor list.
+struct DensePacking {
+  Particles<2, double, Exec> p;
+  Box<2, double> box;
+  sp::SoftSphereRepulsion<double> contacts{100.0, {1.0, 1.4}};
+  NeighborList<2, double, Exec> list;
 
-void BM_SoftParticleContactForces2D(benchmark::State& state) {
-  const int n = int(state.range(0));
-  Particles<2, double, Exec> p(n, "bench_sp");
-  const double L = dense_bidisperse_packing(p);
-  const Box<2, double> box = Box<2, double>::cube(L, true);
-  const sp::SoftSphereRepulsion<double> contacts(100.0, {1.0, 1.4});
-  NeighborList<2, double, Exec> list(contacts.cutoff(), 0.2);
-  list.build(p, box);
-  PairForce<2, double, Exec> pair;
+  explicit DensePacking(int n)
+      : p(n, "bench_sp"), box(Box<2, double>::cube(side(n), true)), list(contacts.cutoff(), 0.2) {
+    const double L = side(n);
+    std::mt19937 gen(1);
+    std::uniform_real_distribution<double> u(0, L), w(-0.1, 0.1);
+    auto x = Kokkos::create_mirror_view(p.x);
+    auto v = Kokkos::create_mirror_view(p.v);
+    auto type = Kokkos::create_mirror_view(p.type);
+    for (int i = 0; i < n; ++i) {
+      for (int d = 0; d < 2; ++d) {
+        x(i, d) = u(gen);
+        v(i, d) = w(gen);
+      }
+      type(i) = i % 2;
+    }
+    Kokkos::deep_copy(p.x, x);
+    Kokkos::deep_copy(p.v, v);
+    Kokkos::deep_copy(p.type, type);
+    list.build(p, box);
+  }
+  static double side(int n) { return std::sqrt(n * 0.5 * (0.25 * M_PI * (1.0 + 1.4 * 1.4)) / 0.85); }
+};
+
+// Times `evaluations` calls of `evaluate` per benchmark iteration; items = particle updates.
+template <class Evaluate>
+void time_evaluations(benchmark::State& state, int n, Evaluate&& evaluate) {
   const int evaluations = 20;
   for (auto _ : state) {
     Kokkos::fence();
     const auto t0 = std::chrono::steady_clock::now();
-    for (int k = 0; k < evaluations; ++k) {
-      p.zero_forces();
-      pair.accumulate(contacts, p, list, box);
-      sp::accumulate_kinetic_friction(0.5, contacts, p, p.v, list, box);
-      sp::accumulate_mass_proportional_drag(0.3, p, p.v);
-    }
+    for (int k = 0; k < evaluations; ++k) evaluate();
     Kokkos::fence();
     state.SetIterationTime(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
   }
   state.SetItemsProcessed(int64_t(state.iterations()) * evaluations * n);
+}
+
+void BM_SoftParticleContactForces2D(benchmark::State& state) {
+  const int n = int(state.range(0));
+  DensePacking s(n);
+  PairForce<2, double, Exec> pair;
+  time_evaluations(state, n, [&] {
+    s.p.zero_forces();
+    pair.accumulate(s.contacts, s.p, s.list, s.box);
+    sp::accumulate_kinetic_friction(0.5, s.contacts, s.p, s.p.v, s.list, s.box);
+    sp::accumulate_mass_proportional_drag(0.3, s.p, s.p.v);
+  });
 }
 
 // Kinetic friction (eq. 6) alone on the same packing; range(1): 0 the full relative velocity, 1 its
@@ -83,24 +92,11 @@ void BM_SoftParticleContactForces2D(benchmark::State& state) {
 void BM_SoftParticleKineticFriction2D(benchmark::State& state) {
   const int n = int(state.range(0));
   const auto component = state.range(1) == 1 ? sp::FrictionComponent::tangential : sp::FrictionComponent::full;
-  Particles<2, double, Exec> p(n, "bench_sp_friction");
-  const double L = dense_bidisperse_packing(p);
-  const Box<2, double> box = Box<2, double>::cube(L, true);
-  const sp::SoftSphereRepulsion<double> contacts(100.0, {1.0, 1.4});
-  NeighborList<2, double, Exec> list(contacts.cutoff(), 0.2);
-  list.build(p, box);
-  const int evaluations = 20;
-  for (auto _ : state) {
-    Kokkos::fence();
-    const auto t0 = std::chrono::steady_clock::now();
-    for (int k = 0; k < evaluations; ++k) {
-      p.zero_forces();
-      sp::accumulate_kinetic_friction(0.5, contacts, p, p.v, list, box, component);
-    }
-    Kokkos::fence();
-    state.SetIterationTime(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
-  }
-  state.SetItemsProcessed(int64_t(state.iterations()) * evaluations * n);
+  DensePacking s(n);
+  time_evaluations(state, n, [&] {
+    s.p.zero_forces();
+    sp::accumulate_kinetic_friction(0.5, s.contacts, s.p, s.p.v, s.list, s.box, component);
+  });
 }
 
 void BM_SoftParticleWallRepulsion2D(benchmark::State& state) {
@@ -118,18 +114,10 @@ void BM_SoftParticleWallRepulsion2D(benchmark::State& state) {
   }
   const Geometry<2, double, Exec> walls(hopper_walls_2d<double>(W, 6.0, 90.0));
   const sp::SoftSphereRepulsion<double> sizes(100.0, {1.0, 1.4});
-  const int evaluations = 20;
-  for (auto _ : state) {
-    Kokkos::fence();
-    const auto t0 = std::chrono::steady_clock::now();
-    for (int k = 0; k < evaluations; ++k) {
-      p.zero_forces();
-      sp::accumulate_wall_repulsion(1e4, sizes, walls, p);
-    }
-    Kokkos::fence();
-    state.SetIterationTime(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
-  }
-  state.SetItemsProcessed(int64_t(state.iterations()) * evaluations * n);
+  time_evaluations(state, n, [&] {
+    p.zero_forces();
+    sp::accumulate_wall_repulsion(1e4, sizes, walls, p);
+  });
 }
 
 // range(0): polygons; range(1): 0 rough (eqs. 9 + 12), 1 smooth (Appendix A).
