@@ -8,7 +8,7 @@
 // produced NaN would time NaN arithmetic.
 #include <benchmark/benchmark.h>
 
-#include "drivers/droplets/droplet_scene.hpp"
+#include "scenes/droplets/droplet_scene.hpp"
 #include "kernels/common/geometry.hpp"
 #include "kernels/dp/bending_force.hpp"
 #include "kernels/sp/obstacle_repulsion.hpp"
@@ -116,7 +116,7 @@ void BM_SoftParticleSurfaceForces(benchmark::State& state) {
 //   2 bending switched on with a negligible coefficient (K_b = 10⁻¹²): what the fused loop costs
 //     when it evaluates a term (an obstacle array cannot be switched on harmlessly: its obstacles
 //     cover the box; tests/common/test_zero_coefficient_terms.cpp counts its kernels instead);
-//   3 as 0, with the NaN watchdog checking every 100 steps (drivers/common/nan_watchdog.hpp).
+//   3 as 0, with the NaN watchdog checking every 100 steps (scenes/common/nan_watchdog.hpp).
 void BM_OrificeSceneTerms(benchmark::State& state) {
   const int mode = int(state.range(0));
   DropletParameters par;

@@ -7,7 +7,7 @@
 //     dissipations on (μ/μ0 = 10√10, ζ/ζ0 = 1/√10) so every term of the step is timed. The scene is
 //     relaxed by FIRE and flows for 20 t0 (2D) / 10 t0 (3D) before timing, so the orifice is
 //     discharging and particles are being recycled while it is measured.
-//   BM_HopperStepDP: the deformable-polygon hopper (drivers/hopper/dp_hopper_scene.hpp), 1600
+//   BM_HopperStepDP: the deformable-polygon hopper (scenes/hopper/dp_hopper_scene.hpp), 1600
 //     bidisperse rough 16-gons (eq. 9), W = 50, w = 8, θ_w = 90°, defaults of DpHopperParameters
 //     (K_a = 10⁴, K_l = 10, K_b = 0.1, E_c = E_w = 100), both dissipations on (μ/μ0 = 10√10,
 //     ζ/ζ0 = 1/√10; Δt automatic, friction-limited), so every term of the step is timed: shape
@@ -15,8 +15,8 @@
 //     recycling. Relaxed by FIRE, then flows for 5 t0 before timing (the first polygons cross at
 //     ≈ 2 t0 and are re-inserted from ≈ 3 t0 on, so it is discharging and recycling while timed; the
 //     pile is still settling). Setup ≈ 17 s at 1 thread (counter setup_s). items_per_second = vertex-steps/s.
-#include "drivers/hopper/dp_hopper_scene.hpp"
-#include "drivers/hopper/hopper_scene.hpp"
+#include "scenes/hopper/dp_hopper_scene.hpp"
+#include "scenes/hopper/hopper_scene.hpp"
 
 #include <benchmark/benchmark.h>
 

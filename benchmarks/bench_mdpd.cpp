@@ -13,7 +13,7 @@
 
 #include "manual_timing.hpp"
 #include "kernels/common/random.hpp"
-#include "kernels/mdpd/mdpd_system.hpp"
+#include "scenes/pillars/mdpd_system.hpp"
 
 #include <cmath>
 

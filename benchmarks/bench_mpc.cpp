@@ -18,7 +18,7 @@
 
 #include "manual_timing.hpp"
 #include "kernels/common/random.hpp"
-#include "kernels/mpc/channel_flow.hpp"
+#include "scenes/crystal/channel_flow.hpp"
 #include "kernels/mpc/maxwell_boltzmann.hpp"
 #include "kernels/mpc/mpc_collision.hpp"
 

@@ -17,7 +17,7 @@
 
 #include "manual_timing.hpp"
 #include "kernels/common/random.hpp"
-#include "kernels/sph/sph_system.hpp"
+#include "scenes/capsule/sph_system.hpp"
 
 #include <cmath>
 

@@ -58,7 +58,7 @@
 // (shear: <out>_shear_ca<Ca>_result.csv), written then renamed; with --restart a sweep reuses the
 // finished runs whose scene matches and runs only the rest (an interrupted run starts over).
 //
-// NaN watchdog (drivers/common/nan_watchdog.hpp, CapsuleScene::watched()): every --check-every steps
+// NaN watchdog (scenes/common/nan_watchdog.hpp, CapsuleScene::watched()): every --check-every steps
 // and before every sample (series row, observables, membrane frame) the state is checked; a
 // non-finite value stops the run with exit status 1 and a message naming the particle (membrane
 // vertex, fluid or wall particle by its build-order index), the force term and the step. Nothing is
@@ -73,16 +73,16 @@
 // therefore also checks the largest |ρ − ρ0|/ρ0: beyond 1 (the Tait equation of state, eq. 6, is
 // set up for a few percent) the run stops with exit status 1 and a message naming the step, the
 // time and the deviation; as with a non-finite value, nothing is written from that state.
-#include "drivers/capsule/capsule_scene.hpp"
-#include "drivers/capsule/capsule_shape.hpp"
-#include "drivers/capsule/channel_geometry.hpp"
+#include "scenes/capsule/capsule_scene.hpp"
+#include "analysis/capsule/capsule_shape.hpp"
+#include "scenes/capsule/channel_geometry.hpp"
 #include "drivers/common/cli.hpp"
 #include "drivers/common/output_paths.hpp"
 #include "drivers/common/particle_io.hpp"
 #include "drivers/common/progress.hpp"
 
 #include "kernels/common/kokkos_compat.hpp"
-#include "kernels/io/h5md_writer.hpp"
+#include "io/h5md_writer.hpp"
 
 #include <chrono>
 #include <cmath>

@@ -1,6 +1,6 @@
 #include "drivers/common/output_paths.hpp"
 
-#include "kernels/io/hdf5_util.hpp"
+#include "io/hdf5_util.hpp"
 
 #include <cstdlib>
 #include <fstream>

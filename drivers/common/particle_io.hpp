@@ -5,8 +5,8 @@
 #include "kernels/common/box.hpp"
 #include "kernels/common/neighbor_list.hpp"
 #include "kernels/common/particles.hpp"
-#include "kernels/io/checkpoint.hpp"
-#include "kernels/io/h5md_writer.hpp"
+#include "io/checkpoint.hpp"
+#include "io/h5md_writer.hpp"
 
 #include <cstdint>
 #include <stdexcept>

@@ -22,20 +22,20 @@
 // <out>_far_profile.csv and the two speeds per frame as observables u_far_mean, u_far_axis), and
 // for two or more discs
 // <out>_phonons.h5 (power spectra of eqs. 1-2, theory curves of eqs. 3, 4, 8, 11-14, correlation
-// eq. 5; drivers/crystal/phonon_spectra.hpp), <out>_theory.csv and <out>_phonons.png
+// eq. 5; analysis/crystal/phonon_spectra.hpp), <out>_theory.csv and <out>_phonons.png
 // (scripts/plot_crystal.py). Frames before --warmup are written but left out of K and the spectra.
 // <out>.ckpt.h5 is replaced atomically every --checkpoint-interval; --restart continues from it.
 #include "drivers/common/cli.hpp"
-#include "drivers/common/nan_watchdog.hpp"
+#include "scenes/common/nan_watchdog.hpp"
 #include "drivers/common/output_paths.hpp"
 #include "drivers/common/particle_io.hpp"
 #include "drivers/common/progress.hpp"
-#include "drivers/common/time_step_limit.hpp"
-#include "drivers/crystal/dispersion_theory.hpp"
-#include "drivers/crystal/phonon_spectra.hpp"
-#include "kernels/io/checkpoint.hpp"
-#include "kernels/io/h5md_writer.hpp"
-#include "kernels/mpc/channel_flow.hpp"
+#include "scenes/common/time_step_limit.hpp"
+#include "analysis/crystal/dispersion_theory.hpp"
+#include "analysis/crystal/phonon_spectra.hpp"
+#include "io/checkpoint.hpp"
+#include "io/h5md_writer.hpp"
+#include "scenes/crystal/channel_flow.hpp"
 #include "kernels/mpc/stability.hpp"
 
 #include <array>
@@ -331,7 +331,7 @@ void run(const Parameters& par, const cli::DriverApp& app) {
   const std::int64_t first = std::int64_t(flow.steps_done());
   cli::ProgressLine progress(total_steps - first, std::int64_t(flow.num_solvent()), !app.quiet());
   const auto wall_start = std::chrono::steady_clock::now();
-  // The NaN watchdog (drivers/common/nan_watchdog.hpp), also checked before every frame and
+  // The NaN watchdog (scenes/common/nan_watchdog.hpp), also checked before every frame and
   // checkpoint: the last checkpoint always holds a finite state. The discs' steric force is the
   // one force term; the solvent moves by streaming and collisions only.
   auto& discs = flow.discs();

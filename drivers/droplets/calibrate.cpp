@@ -8,7 +8,7 @@
 // time t0 = √(σ/g). The measured CSV gives h/σ (distance of the centre of mass past the orifice,
 // negative before it) and v_g/v_t in columns `h` and `vg_over_vt` (an `orifice` profile CSV works).
 //
-// Method (drivers/droplets/calibrate.hpp): a grid of --grid-points per fitted parameter over
+// Method (scenes/droplets/calibrate.hpp): a grid of --grid-points per fitted parameter over
 // [--gamma-min, --gamma-max] × [--drag-min, --drag-max] (log-spaced), then Nelder–Mead in
 // (ln Γ, ln b0/b∞) to --tolerance; --max-evaluations orifice passages at most.
 //
@@ -18,7 +18,7 @@
 // against h; --no-plot skips it).
 #include "drivers/common/cli.hpp"
 #include "drivers/common/output_paths.hpp"
-#include "drivers/droplets/calibrate.hpp"
+#include "scenes/droplets/calibrate.hpp"
 
 #include <chrono>
 #include <fstream>

@@ -6,7 +6,7 @@
 // Units (§2.2): length σ (undeformed droplet diameter), acceleration g, areal mass density ρ;
 // time t0 = √(σ/g); M = π/4. δ_s is in σ; Γ, E_w, K_a, K_l are the paper's dimensionless numbers.
 //
-// Method (drivers/droplets/deformation.hpp): the droplet touches the wall y = 0, FIRE relaxes it
+// Method (scenes/droplets/deformation.hpp): the droplet touches the wall y = 0, FIRE relaxes it
 // without gravity (§2.4), then with gravity; δ_s is the drop of the centre of mass. SP also gets
 // the exact δ_s = π/(16 E_w) for comparison. DP deviates from the paper in E_w (0.05 with δ = l0,
 // the explicit stability limit; see droplet_scene.hpp).
@@ -16,7 +16,7 @@
 // <out>.json (parameters and timing), <out>.png (δ_s against the swept parameter; --no-plot skips it).
 #include "drivers/common/cli.hpp"
 #include "drivers/common/output_paths.hpp"
-#include "drivers/droplets/deformation.hpp"
+#include "scenes/droplets/deformation.hpp"
 
 #include <chrono>
 #include <fstream>

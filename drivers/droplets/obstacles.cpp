@@ -5,7 +5,7 @@
 // to the end, the steady-state speed ⟨v_g⟩/v_t (App. D). One command sweeps Γ (DP) or E_w (SP)
 // and w_ob.
 //
-// Units (capillary-droplets §2.2, drivers/droplets/droplet_scene.hpp): length σ (undeformed droplet
+// Units (capillary-droplets §2.2, scenes/droplets/droplet_scene.hpp): length σ (undeformed droplet
 // diameter), acceleration g, areal mass density ρ; time t0 = √(σ/g). M = π/4; b∞ = M/V_t (eq. 15);
 // Γ, K_a, K_l, E_w are the dimensionless coefficients of eqs. 1–3 and 8.
 //
@@ -35,11 +35,11 @@
 #include "drivers/common/ensemble_mpi.hpp"
 #include "drivers/common/output_paths.hpp"
 #include "drivers/common/progress.hpp"
-#include "drivers/droplets/clogging_statistics.hpp"
-#include "drivers/droplets/obstacles_ensemble.hpp"
-#include "kernels/io/checkpoint.hpp"
-#include "kernels/io/h5md_writer.hpp"
-#include "kernels/io/hdf5_util.hpp"
+#include "analysis/droplets/clogging_statistics.hpp"
+#include "scenes/droplets/obstacles_ensemble.hpp"
+#include "io/checkpoint.hpp"
+#include "io/h5md_writer.hpp"
+#include "io/hdf5_util.hpp"
 
 #include <algorithm>
 #include <charconv>

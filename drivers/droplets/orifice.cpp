@@ -18,7 +18,7 @@
 #include "drivers/common/output_paths.hpp"
 #include "drivers/common/particle_io.hpp"
 #include "drivers/common/progress.hpp"
-#include "drivers/droplets/orifice_run.hpp"
+#include "scenes/droplets/orifice_run.hpp"
 
 #include <algorithm>
 #include <chrono>

@@ -1,8 +1,8 @@
 // hopper — continuous gravity-driven hopper flow of bidisperse soft particles (SP, 2D and 3D) or
 // deformable polygons (DP, 2D) (hopper-flows paper §2.1–2.4, §4): sweeps the orifice width w,
 // measures the steady flow rate Q(w) or clogging at each, and fits the Beverloo law
-// Q = C(w/σ_avg − k)^β (eq. 1) when at least 4 widths flow. Scenes: drivers/hopper/hopper_scene.hpp
-// (SP), drivers/hopper/dp_hopper_scene.hpp (DP: K_a, K_l, K_b of eq. 8, E_c of eq. 9, rough or
+// Q = C(w/σ_avg − k)^β (eq. 1) when at least 4 widths flow. Scenes: scenes/hopper/hopper_scene.hpp
+// (SP), scenes/hopper/dp_hopper_scene.hpp (DP: K_a, K_l, K_b of eq. 8, E_c of eq. 9, rough or
 // smooth contacts, E_w of eq. 10, ζ of eq. 11, μ of eq. 12).
 //
 // Units (§2.2): length σ_avg = (σ_s + σ_l)/2, acceleration g, density ρ (areal in 2D); time
@@ -11,8 +11,8 @@
 // default) takes min(10⁻³ t0, 0.9 × the scene's explicit stability limit); a larger --dt is refused.
 // Each width is an independent run with its own seed (--seed + the width's index, so the Q(w) of
 // different widths carry independent noise, as the Beverloo fit's χ² assumes): random placement,
-// FIRE without gravity, then flow (drivers/hopper/hopper_scene.hpp; steady-state and clogging criteria in
-// drivers/hopper/flow_measurement.hpp).
+// FIRE without gravity, then flow (scenes/hopper/hopper_scene.hpp; steady-state and clogging criteria in
+// scenes/hopper/flow_measurement.hpp).
 //
 // Measured over the windows that make Q (after the steady state), at each window's end:
 //   - the velocity profile on the hopper axis (§4, Fig. 5): Gaussian coarse-graining of width σ_avg
@@ -42,12 +42,12 @@
 #include "drivers/common/cli.hpp"
 #include "drivers/common/ensemble_mpi.hpp"
 #include "drivers/common/output_paths.hpp"
-#include "drivers/hopper/flow_measurement.hpp"
-#include "drivers/hopper/flow_rate_fits.hpp"
-#include "drivers/hopper/dp_hopper_scene.hpp"
-#include "drivers/hopper/hopper_scene.hpp"
+#include "scenes/hopper/flow_measurement.hpp"
+#include "analysis/hopper/flow_rate_fits.hpp"
+#include "scenes/hopper/dp_hopper_scene.hpp"
+#include "scenes/hopper/hopper_scene.hpp"
 #include "kernels/common/coarse_graining.hpp"
-#include "kernels/io/h5md_writer.hpp"
+#include "io/h5md_writer.hpp"
 
 #include <array>
 #include <chrono>

@@ -15,11 +15,11 @@
 // observables, parameters), <out>.xdmf (ParaView), <out>.csv (observables), <out>.json (summary),
 // <out>.ckpt.h5 (checkpoint, replaced atomically; --restart continues from it).
 #include "drivers/common/cli.hpp"
-#include "drivers/common/nan_watchdog.hpp"
+#include "scenes/common/nan_watchdog.hpp"
 #include "drivers/common/output_paths.hpp"
 #include "drivers/common/particle_io.hpp"
 #include "drivers/common/progress.hpp"
-#include "drivers/common/time_step_limit.hpp"
+#include "scenes/common/time_step_limit.hpp"
 #include "kernels/common/fire.hpp"
 #include "kernels/common/langevin.hpp"
 #include "kernels/common/lennard_jones.hpp"
@@ -193,7 +193,7 @@ void run(const Parameters& par, const cli::DriverApp& app) {
     ++step;
     time = double(step) * par.dt;
   };
-  // The NaN watchdog (drivers/common/nan_watchdog.hpp): checked every check_every steps and before
+  // The NaN watchdog (scenes/common/nan_watchdog.hpp): checked every check_every steps and before
   // every output and checkpoint, so neither is ever written from a non-finite state.
   watchdog::Watched watched = watchdog::watch_particles(p);
   watched.step = one_step;

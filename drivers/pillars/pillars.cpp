@@ -32,7 +32,7 @@
 // the accumulated samples); --restart continues from it bit-identically at the same thread count.
 // Only --steps, --checkpoint-every, --check-every and --threads may differ from the interrupted run.
 //
-// NaN watchdog (drivers/common/nan_watchdog.hpp, pillars::watched in pillar_scene.hpp): every
+// NaN watchdog (scenes/common/nan_watchdog.hpp, pillars::watched in pillar_scene.hpp): every
 // --check-every steps, and before every sample, the final frame and every checkpoint, positions,
 // velocities, forces, masses and tether sites are checked; a non-finite value stops the run with
 // exit status 1 and a message naming the particle (by tag), the force term and the step, before
@@ -47,12 +47,12 @@
 #include "drivers/common/output_paths.hpp"
 #include "drivers/common/particle_io.hpp"
 #include "drivers/common/progress.hpp"
-#include "drivers/common/time_step_limit.hpp"
-#include "drivers/pillars/permeability_theory.hpp"
-#include "drivers/pillars/pillar_layouts.hpp"
-#include "drivers/pillars/pillar_scene.hpp"
+#include "scenes/common/time_step_limit.hpp"
+#include "analysis/pillars/permeability_theory.hpp"
+#include "scenes/pillars/pillar_layouts.hpp"
+#include "scenes/pillars/pillar_scene.hpp"
 
-#include "kernels/io/checkpoint.hpp"
+#include "io/checkpoint.hpp"
 #include "kernels/mdpd/stability.hpp"
 
 #include <chrono>

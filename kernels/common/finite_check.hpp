@@ -1,4 +1,4 @@
-// finite_check.hpp — the device side of the NaN watchdog (drivers/common/nan_watchdog.hpp): find the
+// finite_check.hpp — the device side of the NaN watchdog (scenes/common/nan_watchdog.hpp): find the
 // first non-finite entry of a per-particle field, and copy fields to and from a last-good buffer.
 //
 // One reduction per field with Kokkos::Min over the index, so the answer is the lowest particle

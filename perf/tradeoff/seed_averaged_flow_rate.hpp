@@ -3,7 +3,7 @@
 // programs (tradeoff_hopper.cpp, tradeoff_dp_hopper.cpp) share.
 #pragma once
 
-#include "drivers/hopper/flow_measurement.hpp"
+#include "scenes/hopper/flow_measurement.hpp"
 #include "perf/tradeoff/cost_clock.hpp"
 
 #include <cmath>

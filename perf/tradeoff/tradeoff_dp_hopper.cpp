@@ -1,6 +1,6 @@
 // tradeoff_dp_hopper — speed–accuracy trade-off of the 2D DP hopper (hopper-flows §2.3, §2.4, §4): the
-// cost of continuous hopper flow of deformable polygons (drivers/hopper/dp_hopper_scene.hpp) per unit
-// of physical time against the error of its flow rate Q (drivers/hopper/flow_measurement.hpp), for
+// cost of continuous hopper flow of deformable polygons (scenes/hopper/dp_hopper_scene.hpp) per unit
+// of physical time against the error of its flow rate Q (scenes/hopper/flow_measurement.hpp), for
 // the time step Δt and a shape stiffness of eq. 8 (the bending stiffness K_b, or the perimeter
 // stiffness K_l with --stiffness perimeter), in float and in double. The SP counterpart is
 // tradeoff_hopper.cpp.
@@ -26,8 +26,8 @@
 // perf/tradeoff/run_dp_hopper runs this and perf/tradeoff/plot_tradeoff_panels.py.
 #include "drivers/common/cli.hpp"
 #include "drivers/common/output_paths.hpp"
-#include "drivers/hopper/dp_hopper_scene.hpp"
-#include "drivers/hopper/flow_measurement.hpp"
+#include "scenes/hopper/dp_hopper_scene.hpp"
+#include "scenes/hopper/flow_measurement.hpp"
 #include "perf/tradeoff/cost_clock.hpp"
 #include "perf/tradeoff/seed_averaged_flow_rate.hpp"
 

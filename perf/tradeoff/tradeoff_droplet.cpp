@@ -1,5 +1,5 @@
 // tradeoff_droplet — speed–accuracy trade-off of the DP droplet (capillary-droplets §2, App. B):
-// the cost of one orifice passage (drivers/droplets/orifice_run.hpp, the Fig. 2 scene) per unit of
+// the cost of one orifice passage (scenes/droplets/orifice_run.hpp, the Fig. 2 scene) per unit of
 // physical time against the error of its speed profile v_g(h), for the number of vertices N_v and
 // the time step Δt, in float and in double. Scene: the Fig. 2 droplet (Γ = 0.16, b0/b∞ = 0.064,
 // V_t = 0.08, K_l/Γ = 10⁻³) through a w = 0.7σ orifice (passage ~70 t0; Fig. 2's w = 0.4σ takes
@@ -8,7 +8,7 @@
 // Error: Δ_v of eq. 14 (App. B uses it to choose N_v and K_l), √(Σ_i ((v_ref,i − v_i)/v_i)²/N_f),
 // with the converged reference's samples in −1.2σ ≤ h ≤ 0.9σ as the "measured" frames (a run stops
 // at h = 1σ, so frames past 0.9σ would meet no sample of a run that stopped a sample earlier), the run's
-// v_g interpolated between its samples at each h_i (drivers/droplets/calibrate.hpp). References,
+// v_g interpolated between its samples at each h_i (scenes/droplets/calibrate.hpp). References,
 // both in double: the finest N_v at its automatic Δt for the N_v sweep; the smallest Δt at
 // --dt-vertices for the Δt sweep. "delta_v_vs_double" is the error float adds: Δ_v of the float run
 // against the double run of the same N_v and Δt.
@@ -21,7 +21,7 @@
 // the float speed-up. perf/tradeoff/run_droplet runs this and perf/tradeoff/plot_tradeoff_panels.py.
 #include "drivers/common/cli.hpp"
 #include "drivers/common/output_paths.hpp"
-#include "drivers/droplets/calibrate.hpp"
+#include "scenes/droplets/calibrate.hpp"
 #include "perf/tradeoff/cost_clock.hpp"
 
 #include <algorithm>

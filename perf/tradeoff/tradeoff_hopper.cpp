@@ -1,6 +1,6 @@
 // tradeoff_hopper — speed–accuracy trade-off of the 2D SP hopper (hopper-flows §2.1–2.4, §4): the
-// cost of continuous hopper flow (drivers/hopper/hopper_scene.hpp) per unit of physical time against
-// the error of its flow rate Q (drivers/hopper/flow_measurement.hpp), for the time step Δt and the
+// cost of continuous hopper flow (scenes/hopper/hopper_scene.hpp) per unit of physical time against
+// the error of its flow rate Q (scenes/hopper/flow_measurement.hpp), for the time step Δt and the
 // particle stiffness E_sp (eq. 2), in float and in double.
 //
 // Scene: N = 300 bidisperse particles, W = 20σ_avg, θ_w = 90°, w = 6σ_avg, E_w = 10⁴, drag only
@@ -23,8 +23,8 @@
 // perf/tradeoff/run_hopper runs this and perf/tradeoff/plot_tradeoff_panels.py.
 #include "drivers/common/cli.hpp"
 #include "drivers/common/output_paths.hpp"
-#include "drivers/hopper/flow_measurement.hpp"
-#include "drivers/hopper/hopper_scene.hpp"
+#include "scenes/hopper/flow_measurement.hpp"
+#include "scenes/hopper/hopper_scene.hpp"
 #include "perf/tradeoff/cost_clock.hpp"
 #include "perf/tradeoff/seed_averaged_flow_rate.hpp"
 

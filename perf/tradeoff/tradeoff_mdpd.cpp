@@ -20,7 +20,7 @@
 // process-CPU seconds of the whole run per τ.
 //
 // --observable permeability: the Darcy permeability κ of a 2D square pillar array (the `pillars`
-// driver's scene, drivers/pillars/pillar_scene.hpp: fluid equilibrated at rest, pillars carved from
+// driver's scene, scenes/pillars/pillar_scene.hpp: fluid equilibrated at rest, pillars carved from
 // it as tethered solid particles, k_S = 12.5, cores deeper than 1.2σ repelling the fluid by WCA), at
 // porosity ε = --porosity (0.8), over the time step and the resolution of the geometry in
 // interaction ranges: the pillar diameter d/r_A (r_A = r_c = 1) at fixed ε, so the lattice spacing
@@ -39,13 +39,13 @@
 // `--sample-time` τ sampled every 0.1τ; κ's standard error from 10 block means. A run whose fluid
 // temperature leaves k_BT ± 0.5 is stopped and marked unstable.
 #include "drivers/common/cli.hpp"
-#include "drivers/pillars/permeability_theory.hpp"
-#include "drivers/pillars/pillar_layouts.hpp"
-#include "drivers/pillars/pillar_scene.hpp"
+#include "analysis/pillars/permeability_theory.hpp"
+#include "scenes/pillars/pillar_layouts.hpp"
+#include "scenes/pillars/pillar_scene.hpp"
 #include "kernels/common/box.hpp"
 #include "kernels/common/kokkos_compat.hpp"
 #include "kernels/common/reductions.hpp"
-#include "kernels/mdpd/mdpd_system.hpp"
+#include "scenes/pillars/mdpd_system.hpp"
 #include "perf/tradeoff/cost_clock.hpp"
 #include "perf/tradeoff/periodic_poiseuille.hpp"
 

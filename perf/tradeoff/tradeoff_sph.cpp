@@ -1,5 +1,5 @@
 // tradeoff_sph — speed–accuracy trade-off of the SPH capsule (sph-microcapsules-constriction §4.1):
-// the cost of the simple-shear cell (drivers/capsule/capsule_scene.hpp, as `capsule --mode shear`
+// the cost of the simple-shear cell (scenes/capsule/capsule_scene.hpp, as `capsule --mode shear`
 // builds it) per unit of shear time γ̇t against the error of the capsule's Taylor deformation D_xy,
 // over the resolution Π and the speed of sound c0, in float and in double.
 //
@@ -31,9 +31,9 @@
 // the references and how converged they are, float against double; <out>_series.csv, every sample
 // of every run (to check that the window sits on the plateau). perf/tradeoff/run_sph runs this and
 // perf/tradeoff/plot_tradeoff_panels.py.
-#include "drivers/capsule/capsule_scene.hpp"
-#include "drivers/capsule/capsule_shape.hpp"
-#include "drivers/capsule/channel_geometry.hpp"
+#include "scenes/capsule/capsule_scene.hpp"
+#include "analysis/capsule/capsule_shape.hpp"
+#include "scenes/capsule/channel_geometry.hpp"
 #include "drivers/common/cli.hpp"
 #include "kernels/common/kokkos_compat.hpp"
 #include "kernels/sph/tait_equation_of_state.hpp"

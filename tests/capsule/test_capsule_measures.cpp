@@ -3,9 +3,9 @@
 // the deformation indices, the mid-plane section and tip curvatures on meshes of known curvature,
 // the shear-plane Taylor deformation and inclination, Pearson's r (eq. 17); and the constriction
 // scene: walls stay put, the capsule starts where asked and the state stays finite.
-#include "drivers/capsule/capsule_scene.hpp"
-#include "drivers/capsule/capsule_shape.hpp"
-#include "drivers/capsule/channel_geometry.hpp"
+#include "scenes/capsule/capsule_scene.hpp"
+#include "analysis/capsule/capsule_shape.hpp"
+#include "scenes/capsule/channel_geometry.hpp"
 #include "kernels/msm/capsule_mesh.hpp"
 
 #include <gtest/gtest.h>

@@ -1,10 +1,10 @@
-// The NaN watchdog on the capsule scene (CapsuleScene::watched(), drivers/capsule/capsule_scene.hpp).
+// The NaN watchdog on the capsule scene (CapsuleScene::watched(), scenes/capsule/capsule_scene.hpp).
 // A restore puts back every permuted array, the bond maps, the slots, and the SPH system's counters
 // and neighbor list (SphSystem::resume): the replay crosses memory sorts with the bonds and slots
 // following them and repeats the run bit for bit. The particle slots that name particles by
 // build-order index follow the sorts. (A forced run stopped by the watchdog is the driver tests
 // Capsule.Watchdog*: the scene blows up fastest in the driver's shear and constriction set-ups.)
-#include "drivers/capsule/capsule_scene.hpp"
+#include "scenes/capsule/capsule_scene.hpp"
 #include "common/watchdog_replay.hpp"
 
 #include <gtest/gtest.h>

@@ -1,8 +1,8 @@
-// The NaN watchdog (drivers/common/nan_watchdog.hpp) on a toy system whose blow-up is known
+// The NaN watchdog (scenes/common/nan_watchdog.hpp) on a toy system whose blow-up is known
 // exactly, and on the orifice droplet run above its stability limit.
-#include "drivers/common/nan_watchdog.hpp"
-#include "drivers/droplets/orifice_run.hpp"
-#include "drivers/hopper/hopper_scene.hpp"
+#include "scenes/common/nan_watchdog.hpp"
+#include "scenes/droplets/orifice_run.hpp"
+#include "scenes/hopper/hopper_scene.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,9 +1,9 @@
 // A term whose coefficient is zero launches no kernel (issue 8, item 4): the scenes' steps are
 // recorded through Kokkos' tool callbacks, which see every parallel_for/reduce/scan by label.
-#include "drivers/droplets/droplet_scene.hpp"
-#include "drivers/hopper/dp_hopper_scene.hpp"
+#include "scenes/droplets/droplet_scene.hpp"
+#include "scenes/hopper/dp_hopper_scene.hpp"
 #include "kernels/common/geometry.hpp"
-#include "drivers/hopper/hopper_scene.hpp"
+#include "scenes/hopper/hopper_scene.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,9 +1,9 @@
-// watchdog_replay.hpp — test helpers for scenes' NaN-watchdog views (drivers/common/nan_watchdog.hpp):
+// watchdog_replay.hpp — test helpers for scenes' NaN-watchdog views (scenes/common/nan_watchdog.hpp):
 // whether a restore of the kept state makes the steps after it retrace the run, and the first step
 // of a plain run whose state is non-finite (the step the watchdog's replay must find).
 #pragma once
 
-#include "drivers/common/nan_watchdog.hpp"
+#include "scenes/common/nan_watchdog.hpp"
 
 #include <Kokkos_Core.hpp>
 

@@ -2,7 +2,7 @@
 // and (4) against a hand evaluation and a brute-force sum of the printed formulas, their small-ka
 // expansions against the continuum forms (11)–(12), the nearest-neighbour forms (13)–(14) as the
 // j = 1 terms, symmetry and periodicity, eq. (8), and the phase velocity for the paper's experiment.
-#include "drivers/crystal/dispersion_theory.hpp"
+#include "analysis/crystal/dispersion_theory.hpp"
 
 #include <gtest/gtest.h>
 

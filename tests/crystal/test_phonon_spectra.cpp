@@ -4,7 +4,7 @@
 // dynamics (C.5)–(C.6) on eqs. (3)–(4), the correlation strength (5)–(7) for quadratic and linear
 // coupling, and the HDF5/CSV output.
 #include "scratch_dir.hpp"
-#include "drivers/crystal/phonon_spectra.hpp"
+#include "analysis/crystal/phonon_spectra.hpp"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -24,7 +24,7 @@
 #include <string>
 #include <vector>
 
-#include "kernels/io/hdf5_util.hpp"
+#include "io/hdf5_util.hpp"
 
 namespace mesoflow::crystal {
 namespace {

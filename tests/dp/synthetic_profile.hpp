@@ -1,7 +1,7 @@
 // Synthetic measured profiles for the calibration tests (test_calibrate, test_calibrate_long).
 #pragma once
 
-#include "drivers/droplets/calibrate.hpp"
+#include "scenes/droplets/calibrate.hpp"
 
 #include <gtest/gtest.h>
 

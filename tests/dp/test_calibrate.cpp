@@ -1,8 +1,8 @@
 // Calibration of the DP model against a measured speed profile (capillary-droplets §4.1,
-// drivers/droplets/calibrate.hpp): Δ_v of eq. 14 with interpolation between simulated frames, the
+// scenes/droplets/calibrate.hpp): Δ_v of eq. 14 with interpolation between simulated frames, the
 // Nelder–Mead minimiser, the CSV reader, and recovery of known (Γ, b0/b∞) from synthetic data made
 // by the orifice simulation itself.
-#include "drivers/droplets/calibrate.hpp"
+#include "scenes/droplets/calibrate.hpp"
 #include "dp/synthetic_profile.hpp"
 
 #include <gtest/gtest.h>

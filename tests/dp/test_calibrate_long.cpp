@@ -1,6 +1,6 @@
 // Acceptance test of the calibration (capillary-droplets §4.1, Fig. 3d; label long, ~1 min):
 // Γ and b0/b∞ recovered together from a synthetic profile made by the orifice simulation.
-#include "drivers/droplets/calibrate.hpp"
+#include "scenes/droplets/calibrate.hpp"
 #include "dp/synthetic_profile.hpp"
 
 #include <gtest/gtest.h>

@@ -1,6 +1,6 @@
 // Clogging statistics: the censored maximum-likelihood decay length, its confidence interval's
 // coverage on synthetic ensembles, and the Kaplan–Meier survival curve.
-#include "drivers/droplets/clogging_statistics.hpp"
+#include "analysis/droplets/clogging_statistics.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,7 +1,7 @@
 // The deformation δ_s of a droplet under its own weight on a flat wall (capillary-droplets §4.2,
-// Fig. 7b; drivers/droplets/deformation.hpp): SP against the exact π/(16 E_w) (eq. 8), DP against
+// Fig. 7b; scenes/droplets/deformation.hpp): SP against the exact π/(16 E_w) (eq. 8), DP against
 // the monotonic dependence on Γ and the energy balance of a loaded minimum.
-#include "drivers/droplets/deformation.hpp"
+#include "scenes/droplets/deformation.hpp"
 
 #include <gtest/gtest.h>
 

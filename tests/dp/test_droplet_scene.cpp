@@ -1,6 +1,6 @@
 // Fast physical validation of the DP droplet scene (capillary-droplets §2): terminal speed,
 // energy conservation and its order in Δt, stability at the extremes of Γ, area conservation.
-#include "drivers/droplets/droplet_scene.hpp"
+#include "scenes/droplets/droplet_scene.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,8 +1,8 @@
 // Ensembles of droplets in random obstacle arrays (capillary-droplets §4.2, App. C): a replica in a
 // batch gives bitwise the record it gives alone, and clog detection (E_k/E_t below a threshold)
 // fires where clogging is certain and never where the droplet cannot be held, for both models.
-#include "drivers/droplets/clogging_statistics.hpp"
-#include "drivers/droplets/obstacles_ensemble.hpp"
+#include "analysis/droplets/clogging_statistics.hpp"
+#include "scenes/droplets/obstacles_ensemble.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,7 +1,7 @@
 // Fast validation of one DP droplet through the narrow orifice (capillary-droplets §4.1, issue 3
 // item 7): the Fig. 2 droplet passes keeping its area, a stiff droplet clogs, the extremes of Γ
 // stay finite, and the time step honours the stability limit.
-#include "drivers/droplets/orifice_run.hpp"
+#include "scenes/droplets/orifice_run.hpp"
 
 #include <gtest/gtest.h>
 

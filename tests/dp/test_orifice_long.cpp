@@ -1,6 +1,6 @@
 // Long validation (ctest label `long`): the stiff droplet of test_orifice.cpp at the paper's
 // resolution N_v = 256 clogs above the w = 0.4σ orifice at the paper's threshold E_k/E_t < 10⁻¹⁷.
-#include "drivers/droplets/orifice_run.hpp"
+#include "scenes/droplets/orifice_run.hpp"
 
 #include <gtest/gtest.h>
 

@@ -14,7 +14,7 @@
 // integrator. Terms of one call add up and add to forces already present.
 #include <gtest/gtest.h>
 
-#include "drivers/droplets/droplet_scene.hpp"
+#include "scenes/droplets/droplet_scene.hpp"
 #include "kernels/common/body_obstacle_list.hpp"
 #include "kernels/common/obstacle_array.hpp"
 #include "kernels/common/particles.hpp"

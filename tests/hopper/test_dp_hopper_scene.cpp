@@ -1,11 +1,11 @@
-// The DP hopper scene (hopper-flows paper §2.3–2.4, drivers/hopper/dp_hopper_scene.hpp): shape forces,
+// The DP hopper scene (hopper-flows paper §2.3–2.4, scenes/hopper/dp_hopper_scene.hpp): shape forces,
 // vertex contacts and vertex friction conserve total momentum (no walls, no gravity), and the smooth
 // contacts of Appendix A conserve momentum and energy; a small 2D
 // hopper of rough 16-gons with kinetic friction only (μ = 10√10, the paper's λ → 0 limit) flows
 // steadily at a wide orifice, conserving the polygon count and their areas; every re-inserted polygon
 // touches nothing, checked by brute force after each recycling; bad parameters are refused by name.
-#include "drivers/hopper/dp_hopper_scene.hpp"
-#include "drivers/hopper/flow_measurement.hpp"
+#include "scenes/hopper/dp_hopper_scene.hpp"
+#include "scenes/hopper/flow_measurement.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,9 +1,9 @@
-// The NaN watchdog on the DP hopper (DpHopperScene::watched(), drivers/hopper/dp_hopper_scene.hpp):
+// The NaN watchdog on the DP hopper (DpHopperScene::watched(), scenes/hopper/dp_hopper_scene.hpp):
 // a restore of the kept state (with the neighbor list's reference positions and wall candidates)
 // makes the steps after it retrace the run bit for bit, and a hopper forced to 4× its stability
 // limit is stopped at the step a plain run first turns non-finite, naming a vertex of a polygon and
 // a force term, and left in its last good state.
-#include "drivers/hopper/dp_hopper_scene.hpp"
+#include "scenes/hopper/dp_hopper_scene.hpp"
 #include "common/watchdog_replay.hpp"
 
 #include <gtest/gtest.h>

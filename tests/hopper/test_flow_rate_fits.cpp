@@ -1,7 +1,7 @@
 // Flow-rate fits (hopper-flows paper): the Beverloo law, eq. 1, recovered from exact and noisy
 // synthetic data, its standard errors checked by coverage over many noisy data sets; the sigmoid
 // β(λ), eq. 14; the corrected flow rate of Appendix B; bad input refused naming the parameter.
-#include "drivers/hopper/flow_rate_fits.hpp"
+#include "analysis/hopper/flow_rate_fits.hpp"
 
 #include <gtest/gtest.h>
 

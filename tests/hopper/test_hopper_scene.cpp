@@ -5,8 +5,8 @@
 // the contact tolerance, checked by brute force after each recycling. 3D (cylinder, flat base,
 // circular orifice): steady nonzero flow, recycling checked the same way. Sorting the particles in
 // memory (every 20 neighbor-list rebuilds) keeps the ids a permutation and the count conserved.
-#include "drivers/hopper/flow_measurement.hpp"
-#include "drivers/hopper/hopper_scene.hpp"
+#include "scenes/hopper/flow_measurement.hpp"
+#include "scenes/hopper/hopper_scene.hpp"
 
 #include <gtest/gtest.h>
 

@@ -14,8 +14,8 @@
 #include <vector>
 
 #include "scratch_dir.hpp"
-#include "kernels/io/checkpoint.hpp"
-#include "kernels/io/h5md_writer.hpp"
+#include "io/checkpoint.hpp"
+#include "io/h5md_writer.hpp"
 
 namespace {
 

@@ -18,7 +18,7 @@
 #include <vector>
 
 #include "scratch_dir.hpp"
-#include "kernels/io/h5md_writer.hpp"
+#include "io/h5md_writer.hpp"
 
 namespace {
 

@@ -9,7 +9,7 @@
 // Warren's prediction λ > ½ does not help here: λ = 0.55 gives −3.1% (2D) and −2.0% (3D), λ = 0.65
 // is unstable in 2D.
 #include "kernels/common/random.hpp"
-#include "kernels/mdpd/mdpd_system.hpp"
+#include "scenes/pillars/mdpd_system.hpp"
 #include "test_types.hpp"
 
 #include <cmath>

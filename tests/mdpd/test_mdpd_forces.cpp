@@ -4,7 +4,7 @@
 // neighbor lists give the same forces, the random force is pairwise symmetric and reproducible, a
 // zero coefficient removes its term, and the Lucy density matches LAMMPS' mdpd/rhosum formula.
 #include "finite_difference.hpp"
-#include "kernels/mdpd/mdpd_system.hpp"
+#include "scenes/pillars/mdpd_system.hpp"
 #include "test_types.hpp"
 
 #include <cmath>

@@ -4,7 +4,7 @@
 // walls, and plane Poiseuille flow (2D and 3D) with the viscosity of eq. (B.3): no slip with the
 // mirror images, a small residual slip with Appendix B's particles, more without either.
 #include "kernels/common/reductions.hpp"
-#include "kernels/mpc/channel_flow.hpp"
+#include "scenes/crystal/channel_flow.hpp"
 #include "kernels/mpc/collision_grid.hpp"
 #include "kernels/mpc/maxwell_boltzmann.hpp"
 #include "kernels/mpc/mpc_collision.hpp"

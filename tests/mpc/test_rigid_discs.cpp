@@ -2,7 +2,7 @@
 // impulse bookkeeping, the virtual particles inside the discs, the WCA forces of eq. (B.4) against
 // their energy, momentum conservation of solvent + discs, and a disc with wall friction lagging
 // behind the channel flow.
-#include "kernels/mpc/channel_flow.hpp"
+#include "scenes/crystal/channel_flow.hpp"
 #include "kernels/mpc/disc_bounce_back.hpp"
 #include "kernels/mpc/disc_wca.hpp"
 #include "kernels/mpc/rigid_discs.hpp"

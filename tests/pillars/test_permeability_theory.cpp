@@ -2,7 +2,7 @@
 // against numbers printed in its source or in a secondary source (cited beside each), the exact
 // square-array results of Sangani & Acrivos 1982 as the common yardstick, Brinkman's profile and
 // eq. 7 with their limits, the (B, α) fit on synthetic profiles, and the Darcy line fit.
-#include "drivers/pillars/permeability_theory.hpp"
+#include "analysis/pillars/permeability_theory.hpp"
 
 #include <gtest/gtest.h>
 

@@ -2,7 +2,7 @@
 // have the exact porosity and the geometry of Fig. 1 (nearest-neighbour vectors and rows relative to
 // the flow along x); the hard-disc Monte Carlo keeps the 0.2 d gaps, is reproducible, moves away from
 // its starting lattice and adapts its step to ~40 % acceptance; CSV round trip; bad input refused.
-#include "drivers/pillars/pillar_layouts.hpp"
+#include "scenes/pillars/pillar_layouts.hpp"
 
 #include "scratch_dir.hpp"
 

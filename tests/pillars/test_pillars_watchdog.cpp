@@ -1,9 +1,9 @@
-// The NaN watchdog on the pillars' MDPD system (pillars::watched, drivers/pillars/pillar_scene.hpp): a
+// The NaN watchdog on the pillars' MDPD system (pillars::watched, scenes/pillars/pillar_scene.hpp): a
 // restore of the kept state (with the counters and the neighbor list's reference positions) makes the
 // steps after it retrace the run bit for bit, across memory sorts, with tethered pillar particles and
 // the driving force; a system forced to 2× its stability limit is stopped at the step a plain run
 // first turns non-finite, naming a particle by its tag and a force term, and left in its last good state.
-#include "drivers/pillars/pillar_scene.hpp"
+#include "scenes/pillars/pillar_scene.hpp"
 #include "common/watchdog_replay.hpp"
 
 #include <gtest/gtest.h>

@@ -1,4 +1,4 @@
-// The capsule scene (drivers/capsule/capsule_scene.hpp): SPH fluid (kernels/sph, eqs. 1–6, 11–16)
+// The capsule scene (scenes/capsule/capsule_scene.hpp): SPH fluid (kernels/sph, eqs. 1–6, 11–16)
 // with the paper's two-layer mass-spring membrane (kernels/msm, eq. 7) — §2.4's membrane particles
 // that are SPH particles too, inner and outer fluid (§3, Fig. 1).
 //
@@ -16,7 +16,7 @@
 // Scene: Δx = 1, ρ0 = 1, Lucy support 3Δx, a 16³ periodic box; capsule a = 4Δx, h_t = Δx,
 // icosphere level 2 (2 × 162 membrane particles, δ_ave ≈ 1.05Δx), μ = 1 everywhere, k_b = 1
 // (G_s ≈ 1.1 by §4's formula), c0 = 10 U with U = 0.2.
-#include "drivers/capsule/capsule_scene.hpp"
+#include "scenes/capsule/capsule_scene.hpp"
 #include "test_types.hpp"
 
 #include <algorithm>

@@ -11,7 +11,7 @@
 // U = 0.1 (Re = UH/ν = 1). Support 3Δx rather than 2.5Δx: the lattice sum behind the Morris viscous
 // term, Σ_j (−dW/dr) z_j²/r_j Δx³ (1 in the continuum), is 1.006 on the cubic lattice at 3Δx but
 // 0.968–0.979 at 2.5Δx, a 2–3% viscosity error of its own.
-#include "kernels/sph/sph_system.hpp"
+#include "scenes/capsule/sph_system.hpp"
 #include "test_types.hpp"
 
 #include <algorithm>

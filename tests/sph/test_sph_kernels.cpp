@@ -4,7 +4,7 @@
 // (the paper's walls and Morris walls, 2D and 3D); momentum conservation of the pair forces; and on a
 // lattice the continuity eq. (4) gives dρ/dt = −ρ∇·u (its sign) and the viscous term of eq. (5)
 // gives ν∇²u.
-#include "kernels/sph/sph_system.hpp"
+#include "scenes/capsule/sph_system.hpp"
 #include "test_types.hpp"
 
 #include <array>

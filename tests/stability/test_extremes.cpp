@@ -17,15 +17,15 @@
 // This file builds twice (tests/CMakeLists.txt): test_extremes (label `unit`, in CI, short runs,
 // < 60 s in Release on 2 cores) and test_extremes_full (label `extremes`, MESOFLOW_EXTREMES_FULL:
 // ten times longer runs; `ctest --preset extremes`). docs/stability.md lists the measured figures.
-#include "drivers/capsule/capsule_scene.hpp"
-#include "drivers/droplets/deformation.hpp"
-#include "drivers/droplets/droplet_scene.hpp"
-#include "drivers/hopper/hopper_scene.hpp"
+#include "scenes/capsule/capsule_scene.hpp"
+#include "scenes/droplets/deformation.hpp"
+#include "scenes/droplets/droplet_scene.hpp"
+#include "scenes/hopper/hopper_scene.hpp"
 #include "kernels/common/random.hpp"
 #include "kernels/common/reductions.hpp"
-#include "kernels/mdpd/mdpd_system.hpp"
+#include "scenes/pillars/mdpd_system.hpp"
 #include "kernels/mdpd/stability.hpp"
-#include "kernels/mpc/channel_flow.hpp"
+#include "scenes/crystal/channel_flow.hpp"
 #include "kernels/msm/capsule_mesh.hpp"
 
 #include <gtest/gtest.h>

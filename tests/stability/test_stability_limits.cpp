@@ -1,12 +1,12 @@
 // The Δt stability limits of the models that had none (kernels/mdpd/stability.hpp,
 // kernels/mpc/stability.hpp, kernels/common/lennard_jones_stability.hpp) and the refusal rule the
-// drivers share (drivers/common/time_step_limit.hpp): each limit reproduces its derivation at the
+// drivers share (scenes/common/time_step_limit.hpp): each limit reproduces its derivation at the
 // paper's parameters, a run just below it stays bounded and, where cheap, a run well above it
 // blows up — so the limit is an estimate with a margin, not a number chosen to pass.
-#include "drivers/common/time_step_limit.hpp"
-#include "drivers/droplets/deformation.hpp"
-#include "drivers/droplets/droplet_scene.hpp"
-#include "drivers/hopper/hopper_scene.hpp"
+#include "scenes/common/time_step_limit.hpp"
+#include "scenes/droplets/deformation.hpp"
+#include "scenes/droplets/droplet_scene.hpp"
+#include "scenes/hopper/hopper_scene.hpp"
 #include "kernels/common/fire.hpp"
 #include "kernels/common/lennard_jones.hpp"
 #include "kernels/common/lennard_jones_stability.hpp"
@@ -18,9 +18,9 @@
 #include "kernels/dp/polygons.hpp"
 #include "kernels/dp/shape_stiffness.hpp"
 #include "kernels/dp/stability.hpp"
-#include "kernels/mdpd/mdpd_system.hpp"
+#include "scenes/pillars/mdpd_system.hpp"
 #include "kernels/mdpd/stability.hpp"
-#include "kernels/mpc/channel_flow.hpp"
+#include "scenes/crystal/channel_flow.hpp"
 #include "kernels/mpc/stability.hpp"
 
 #include <gtest/gtest.h>

@@ -1,4 +1,4 @@
-#include "drivers/pillars/permeability_theory.hpp"
+#include "analysis/pillars/permeability_theory.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -18,8 +18,8 @@
 // reaches App. C's clogging threshold. Obstacles only: the scene refuses walls.
 #pragma once
 
-#include "drivers/common/nan_watchdog.hpp"
-#include "drivers/droplets/droplet_scene.hpp"
+#include "scenes/common/nan_watchdog.hpp"
+#include "scenes/droplets/droplet_scene.hpp"
 #include "kernels/common/fire.hpp"
 #include "kernels/common/obstacle_array.hpp"
 #include "kernels/common/surface_force.hpp"
@@ -166,7 +166,7 @@ class SoftParticleScene {
     Kokkos::deep_copy(p_.v, v);
   }
 
-  // The NaN watchdog's view of the scene (drivers/common/nan_watchdog.hpp): x, v, f and the step
+  // The NaN watchdog's view of the scene (scenes/common/nan_watchdog.hpp): x, v, f and the step
   // counter; gravity, eq. 8's repulsion and eq. 10's drag alone. The scene must outlive it.
   watchdog::Watched watched() {
     watchdog::Watched w = watchdog::watch_particles(p_);

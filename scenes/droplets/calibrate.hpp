@@ -7,7 +7,7 @@
 // from any experiment once h is in droplet diameters and v_g in terminal speeds.
 #pragma once
 
-#include "drivers/droplets/orifice_run.hpp"
+#include "scenes/droplets/orifice_run.hpp"
 
 #include <algorithm>
 #include <chrono>

@@ -17,9 +17,9 @@
 // a batch ends as soon as its last replica does.
 #pragma once
 
-#include "drivers/droplets/clog_detection.hpp"
-#include "drivers/droplets/droplet_scene.hpp"
-#include "drivers/droplets/soft_particle_scene.hpp"
+#include "scenes/droplets/clog_detection.hpp"
+#include "scenes/droplets/droplet_scene.hpp"
+#include "scenes/droplets/soft_particle_scene.hpp"
 #include "kernels/common/obstacle_array.hpp"
 
 #include <algorithm>
@@ -75,7 +75,7 @@ inline std::size_t obstacle_count(const ObstacleEnsembleParameters& par) {
 namespace ensemble_detail {
 
 constexpr int sample_steps = 10;    // steps between clog checks (10⁻² t0 at Δt = 10⁻³ t0)
-constexpr long long watchdog_interval = 100;  // steps between NaN-watchdog checks (drivers/common/nan_watchdog.hpp)
+constexpr long long watchdog_interval = 100;  // steps between NaN-watchdog checks (scenes/common/nan_watchdog.hpp)
 constexpr int report_steps = 1000;  // steps between host reads of the finished count
 
 // Centre of mass and E_k of DP droplet b (BodyState after update_body_state).

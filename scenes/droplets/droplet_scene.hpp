@@ -27,8 +27,8 @@
 #include "kernels/dp/segment_spring_force.hpp"
 #include "kernels/dp/shape_forces.hpp"
 #include "kernels/dp/shape_stiffness.hpp"
-#include "drivers/common/nan_watchdog.hpp"
-#include "drivers/common/time_step_limit.hpp"
+#include "scenes/common/nan_watchdog.hpp"
+#include "scenes/common/time_step_limit.hpp"
 #include "kernels/dp/stability.hpp"
 #include "kernels/dp/vertex_wall_repulsion.hpp"
 
@@ -310,7 +310,7 @@ class DropletScene {
     Kokkos::deep_copy(p_.v, v);
   }
 
-  // The NaN watchdog's view of the scene (drivers/common/nan_watchdog.hpp): the state a step reads
+  // The NaN watchdog's view of the scene (scenes/common/nan_watchdog.hpp): the state a step reads
   // (x, v and the forces of the last step, which the first half-step uses), the step counter, and
   // every force term of step() alone. The scene must outlive the returned value.
   watchdog::Watched watched() {

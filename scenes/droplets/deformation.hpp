@@ -15,7 +15,7 @@
 // sides toward the wall, and a small K_l/Γ lets the vertex mass gather there (Appendix B).
 #pragma once
 
-#include "drivers/droplets/droplet_scene.hpp"
+#include "scenes/droplets/droplet_scene.hpp"
 #include "kernels/common/geometry.hpp"
 #include "kernels/sp/obstacle_repulsion.hpp"
 

@@ -10,11 +10,11 @@
 // it. The channel is z ∈ [0, H), its mid-plane at H/2.
 #pragma once
 
-#include "drivers/common/nan_watchdog.hpp"
-#include "drivers/pillars/pillar_layouts.hpp"
+#include "scenes/common/nan_watchdog.hpp"
+#include "scenes/pillars/pillar_layouts.hpp"
 #include "kernels/common/random.hpp"
 #include "kernels/common/reductions.hpp"
-#include "kernels/mdpd/mdpd_system.hpp"
+#include "scenes/pillars/mdpd_system.hpp"
 
 #include <cmath>
 #include <cstdint>
@@ -190,7 +190,7 @@ FlowSample sample_flow(const mdpd::MdpdSystem<D, Real, Exec>& sys, const SceneGe
 }
 
 // ---------------------------------------------------------------------------------------------
-// The NaN watchdog's view of an MDPD system (drivers/common/nan_watchdog.hpp): watched(sys, seed).
+// The NaN watchdog's view of an MDPD system (scenes/common/nan_watchdog.hpp): watched(sys, seed).
 //
 // State: x, v, the forces of the last step (the first half kick's), masses and tether sites
 // (checked), types, pillar indices and tags (kept); on the host the system's counters (step, rebuilds

@@ -11,7 +11,7 @@
 // along the driving direction.
 #pragma once
 
-#include "drivers/droplets/droplet_scene.hpp"
+#include "scenes/droplets/droplet_scene.hpp"
 #include "kernels/common/geometry.hpp"
 #include "kernels/common/reductions.hpp"
 
@@ -30,7 +30,7 @@ struct OrificeScene {
   double max_time = 2000;          // t/t0 limit
   double sample_interval = 0.05;   // t0 between profile samples
   double clog_threshold = 1e-17;   // E_k/E_t below which the droplet is clogged (Appendix C)
-  long long check_interval = 100;  // steps between NaN-watchdog checks (drivers/common/nan_watchdog.hpp)
+  long long check_interval = 100;  // steps between NaN-watchdog checks (scenes/common/nan_watchdog.hpp)
 
   void validate() const {
     droplet.validate();

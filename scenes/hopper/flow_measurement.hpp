@@ -13,7 +13,7 @@
 // second half.
 #pragma once
 
-#include "drivers/common/nan_watchdog.hpp"
+#include "scenes/common/nan_watchdog.hpp"
 
 #include <cmath>
 #include <functional>
@@ -32,7 +32,7 @@ struct FlowSettings {
   int measure_windows = 12;  // windows averaged once steady
   double clog_time = 20.0;   // t0 without a crossing → clogged
   double max_time = 2000.0;  // t0
-  long long check_interval = 100;  // steps between NaN-watchdog checks (drivers/common/nan_watchdog.hpp)
+  long long check_interval = 100;  // steps between NaN-watchdog checks (scenes/common/nan_watchdog.hpp)
 
   void validate() const {
     auto require = [](bool ok, const std::string& name, const std::string& range, double value) {

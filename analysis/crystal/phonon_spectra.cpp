@@ -1,4 +1,4 @@
-#include "drivers/crystal/phonon_spectra.hpp"
+#include "analysis/crystal/phonon_spectra.hpp"
 
 #include <unsupported/Eigen/FFT>
 
@@ -10,7 +10,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "kernels/io/hdf5_util.hpp"
+#include "io/hdf5_util.hpp"
 
 namespace mesoflow::crystal {
 

@@ -68,7 +68,7 @@
 // the axis by at most a facet's sag, ~δ²/(8a));
 // total momentum Σ m v; largest speed; largest |ρ − ρ0|/ρ0; a finite check.
 //
-// NaN watchdog (watched(), drivers/common/nan_watchdog.hpp): the state is every per-particle array a
+// NaN watchdog (watched(), scenes/common/nan_watchdog.hpp): the state is every per-particle array a
 // step reads or a sort permutes (x, v, f, ρ, ρ̇, mass, μ, ū, type, body, Morris wall geometry), the
 // bond ends and CSR rows, the membrane slots, the particles' slots (`particle_slot()`: where each
 // particle of the build order is stored now, renumbered at every sort like the bonds), the scene's
@@ -80,9 +80,9 @@
 // repeats it bit for bit (tests/capsule/test_capsule_watchdog.cpp).
 #pragma once
 
-#include "drivers/capsule/channel_geometry.hpp"
-#include "drivers/common/nan_watchdog.hpp"
-#include "drivers/common/time_step_limit.hpp"
+#include "scenes/capsule/channel_geometry.hpp"
+#include "scenes/common/nan_watchdog.hpp"
+#include "scenes/common/time_step_limit.hpp"
 #include "kernels/common/box.hpp"
 #include "kernels/common/particle_sort.hpp"
 #include "kernels/common/particles.hpp"
@@ -90,7 +90,7 @@
 #include "kernels/msm/capsule_mesh.hpp"
 #include "kernels/msm/harmonic_bonds.hpp"
 #include "kernels/sph/particle_types.hpp"
-#include "kernels/sph/sph_system.hpp"
+#include "scenes/capsule/sph_system.hpp"
 #include "kernels/sph/sph_time_step.hpp"
 #include "kernels/sph/tait_equation_of_state.hpp"
 

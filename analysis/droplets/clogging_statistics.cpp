@@ -1,4 +1,4 @@
-#include "drivers/droplets/clogging_statistics.hpp"
+#include "analysis/droplets/clogging_statistics.hpp"
 
 #include <algorithm>
 #include <cmath>

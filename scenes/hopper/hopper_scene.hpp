@@ -26,8 +26,8 @@
 // 1 − 2d_w/σ_m); it takes the anchor's velocity. The particle count never changes.
 #pragma once
 
-#include "drivers/common/nan_watchdog.hpp"
-#include "drivers/common/time_step_limit.hpp"
+#include "scenes/common/nan_watchdog.hpp"
+#include "scenes/common/time_step_limit.hpp"
 #include "kernels/common/box.hpp"
 #include "kernels/common/fire.hpp"
 #include "kernels/common/geometry.hpp"
@@ -223,7 +223,7 @@ class HopperScene {
     Kokkos::deep_copy(p_.v, v_host_);
   }
 
-  // The NaN watchdog's view of the scene (drivers/common/nan_watchdog.hpp). The state includes what
+  // The NaN watchdog's view of the scene (scenes/common/nan_watchdog.hpp). The state includes what
   // a cell sort permutes (mass, type, ids, outside) and, on the host, the recycling RNG and counters;
   // after a restore the neighbor list and wall candidates are rebuilt. The scene must outlive it.
   watchdog::Watched watched() {

@@ -1,4 +1,4 @@
-#include "drivers/pillars/pillar_layouts.hpp"
+#include "scenes/pillars/pillar_layouts.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -52,7 +52,7 @@
 // and neither centroid lies inside the other polygon (smooth model: no vertex within δ_mn of another
 // polygon's edge either). Every vertex takes the anchor's centroid velocity. N is conserved. A
 // blown-up state (a non-finite vertex, or one a box length outside the box: a forced Δt above the
-// limit) is not recycled but left for the NaN watchdog (watched(), drivers/common/nan_watchdog.hpp).
+// limit) is not recycled but left for the NaN watchdog (watched(), scenes/common/nan_watchdog.hpp).
 //
 // relax(): the polygons start as regular N_v-gons of random orientation, placed by random sequential
 // adsorption (circumcircles disjoint, large polygons first) at packing fraction 0.5 of a_m,0 in the
@@ -60,7 +60,7 @@
 // overlaps with each other and with the walls (§2.4).
 #pragma once
 
-#include "drivers/hopper/hopper_scene.hpp"
+#include "scenes/hopper/hopper_scene.hpp"
 #include "kernels/dp/area_force.hpp"
 #include "kernels/dp/bending_force.hpp"
 #include "kernels/dp/gravity.hpp"
@@ -68,7 +68,7 @@
 #include "kernels/dp/segment_spring_force.hpp"
 #include "kernels/dp/shape_forces.hpp"
 #include "kernels/dp/smooth_vertex_contacts.hpp"
-#include "drivers/common/time_step_limit.hpp"
+#include "scenes/common/time_step_limit.hpp"
 #include "kernels/dp/stability.hpp"
 #include "kernels/dp/vertex_contacts.hpp"
 #include "kernels/dp/vertex_drag.hpp"
@@ -303,7 +303,7 @@ class DpHopperScene {
     Kokkos::deep_copy(p_.v, v_host_);
   }
 
-  // The NaN watchdog's view of the scene (drivers/common/nan_watchdog.hpp). The state is what a step
+  // The NaN watchdog's view of the scene (scenes/common/nan_watchdog.hpp). The state is what a step
   // reads: x, v and the forces of the last step, the vertex masses, types, the polygons' `outside`
   // flags and the vertices' candidate walls (marked at the last neighbor-list build), and on the
   // host the recycling RNG and counters. The neighbor list is restored too: its reference positions
@@ -669,7 +669,7 @@ class DpHopperScene {
     Kokkos::deep_copy(x_host_, p_.x);
     Kokkos::deep_copy(v_host_, p_.v);
     Kokkos::deep_copy(outside_host_, outside_);
-    if (blown_up()) return;  // left as it is for the NaN watchdog (drivers/common/nan_watchdog.hpp)
+    if (blown_up()) return;  // left as it is for the NaN watchdog (scenes/common/nan_watchdog.hpp)
     const int n = par_.particles;
     std::vector<HostBody> bodies(static_cast<std::size_t>(n));
     for (int b = 0; b < n; ++b) bodies[b] = host_body(b);

@@ -1,4 +1,4 @@
-#include "drivers/crystal/dispersion_theory.hpp"
+#include "analysis/crystal/dispersion_theory.hpp"
 
 #include <cmath>
 #include <cstdio>

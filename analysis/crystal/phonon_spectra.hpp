@@ -21,7 +21,7 @@
 #include <string>
 #include <vector>
 
-#include "drivers/crystal/dispersion_theory.hpp"
+#include "analysis/crystal/dispersion_theory.hpp"
 
 namespace mesoflow::crystal {
 

@@ -1,4 +1,4 @@
-#include "drivers/hopper/flow_rate_fits.hpp"
+#include "analysis/hopper/flow_rate_fits.hpp"
 
 #include <Eigen/Dense>
 
