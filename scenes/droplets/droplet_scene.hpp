@@ -28,6 +28,7 @@
 #include "kernels/dp/shape_forces.hpp"
 #include "kernels/dp/shape_stiffness.hpp"
 #include "scenes/common/nan_watchdog.hpp"
+#include "scenes/common/term_list.hpp"
 #include "scenes/common/time_step_limit.hpp"
 #include "kernels/dp/stability.hpp"
 #include "kernels/dp/vertex_wall_repulsion.hpp"
@@ -180,7 +181,11 @@ class DropletScene {
     }
     const double angle = par.gravity_angle * dp::pi / 180.0;
     gravity_ = Vec<2, Real>{{Real(std::cos(angle)), Real(std::sin(angle))}};
+    declare_terms();
   }
+  // The term list's launches hold `this`: a scene stays where it was built.
+  DropletScene(const DropletScene&) = delete;
+  DropletScene& operator=(const DropletScene&) = delete;
 
   // Minimizes the potential energy by FIRE, without drag: without gravity it removes overlaps
   // with walls and obstacles before a run (§2.4); with gravity it finds a droplet's resting shape
@@ -318,31 +323,7 @@ class DropletScene {
     w.step = [this] { step(); };
     w.steps = [this] { return steps_; };
     w.set_steps = [this](long long s) { steps_ = s; };
-    const auto shape_term = [this](auto term) {
-      return [this, term] {
-        p_.zero_forces();
-        dp::update_body_state(polygons_, p_, state_);
-        dp::accumulate_shape_forces(polygons_, state_, p_, term);
-      };
-    };
-    w.terms = {{"area elasticity K_a (eq. 1)", shape_term(dp::AreaElasticity<Real>{Real(par_.area_stiffness)})},
-               {"segment springs K_l (eq. 1)", shape_term(dp::SegmentSprings<Real>{Real(par_.perimeter_stiffness)})},
-               {"line tension Γ (eq. 2)", shape_term(dp::LineTension<Real>{Real(par_.line_tension)})},
-               {"gravity", shape_term(dp::Gravity<Real>{gravity_})}};
-    if (par_.bending_stiffness > 0)
-      w.terms.push_back({"bending K_b (hopper eq. 8)", shape_term(dp::Bending<Real>{Real(par_.bending_stiffness)})});
-    if (has_surfaces())
-      w.terms.push_back({"wall/obstacle repulsion E_w (eq. 3)", [this] {
-                           p_.zero_forces();
-                           with_surfaces([&](const auto& q) { accumulate_surface_forces(q, p_, p_.v, repulsion()); });
-                         }});
-    if (par_.drag)
-      w.terms.push_back({"drag b∞, b0 (eqs. 5–6)", [this] {
-                           p_.zero_forces();
-                           const dp::VertexWallRepulsion<Real> none(Real(0), Real(par_.vertex_diameter * l0_));
-                           with_surfaces([&](const auto& q) { accumulate_surface_forces(q, p_, p_.v, none, drag()); });
-                         },
-                         true});
+    w.terms = terms_.watchdog_terms();
     w.particle = [this](long long i) {
       for (int b = 0; b < polygons_.num_bodies(); ++b)
         if (i < polygons_.first_vertex(b) + polygons_.num_vertices(b))
@@ -356,19 +337,15 @@ class DropletScene {
   // launches (run summaries list them; terms with zero coefficients are absent or free).
   std::vector<std::string> components() const {
     std::vector<std::string> c{std::to_string(polygons_.num_bodies()) + " droplet(s) of " +
-                                   std::to_string(par_.vertices) + " vertices",
-                               "shape loop (one kernel): area K_a, springs K_l, line tension Γ, gravity" +
-                                   std::string(par_.bending_stiffness > 0 ? ", bending K_b" : "")};
+                               std::to_string(par_.vertices) + " vertices"};
     if (surfaces_.num_walls() > 0) c.push_back(std::to_string(surfaces_.num_walls()) + " walls");
     if (surfaces_.obstacles().size() > 0)
       c.push_back(std::to_string(surfaces_.obstacles().size()) + " obstacles (candidate lists per droplet)");
-    if (has_surfaces())
-      c.push_back(std::string("surface loop (one kernel): repulsion E_w") + (par_.drag ? " + drag b∞" : "") +
-                  (par_.drag && par_.near_wall_drag > 0 ? " with near-wall b0" : ""));
-    else if (par_.drag)
-      c.push_back("drag loop (one kernel): uniform drag b∞");
+    for (auto& line : terms_.components()) c.push_back(std::move(line));
     return c;
   }
+
+  const scene::TermList<const typename Particles<2, Real, ExecSpace>::vector_view&>& terms() const { return terms_; }
 
   const particles_type& particles() const { return p_; }
   const dp::Polygons<Real, ExecSpace>& polygons() const { return polygons_; }
@@ -394,13 +371,50 @@ class DropletScene {
     use(BodySurfaces<Real, ExecSpace>{surfaces_.walls(), surfaces_.num_walls(), *candidates_, polygons_.body});
   }
 
-  // f ← the forces of a step, the velocity-dependent ones (drag) at velocities u.
-  void step_forces(const typename particles_type::vector_view& u) {
-    shape_forces(true);
-    if (par_.drag)  // one pass over the surfaces near each vertex serves repulsion (summed) and drag (nearest)
-      with_surfaces([&](const auto& q) { accumulate_surface_forces(q, p_, u, repulsion(), drag()); });
-    else if (has_surfaces())
-      with_surfaces([&](const auto& q) { accumulate_surface_forces(q, p_, p_.v, repulsion()); });
+  // f ← the forces of a step, the velocity-dependent ones (drag) at velocities u: the term list's
+  // launches in order (declare_terms()).
+  void step_forces(const typename particles_type::vector_view& u) { terms_.evaluate(u); }
+
+  // The scene's terms, declared once: the step, the watchdog and the summaries read this list.
+  // Two launches: the shape loop (zeroes f; area, springs, line tension, bending at K_b > 0,
+  // gravity) and, with walls, obstacles or drag, the surface loop (one pass over the surfaces near
+  // each vertex serves repulsion, summed, and drag, from the nearest surface).
+  void declare_terms() {
+    const auto shape_term = [this](auto term) {
+      return [this, term] {
+        p_.zero_forces();
+        dp::update_body_state(polygons_, p_, state_);
+        dp::accumulate_shape_forces(polygons_, state_, p_, term);
+      };
+    };
+    terms_.term({"area elasticity K_a", "eq. 1", false, true,
+                 shape_term(dp::AreaElasticity<Real>{Real(par_.area_stiffness)})});
+    terms_.term({"segment springs K_l", "eq. 1", false, par_.perimeter_stiffness != 0,
+                 shape_term(dp::SegmentSprings<Real>{Real(par_.perimeter_stiffness)})});
+    terms_.term({"line tension Γ", "eq. 2", false, par_.line_tension != 0,
+                 shape_term(dp::LineTension<Real>{Real(par_.line_tension)})});
+    terms_.term({"bending K_b", "hopper eq. 8", false, par_.bending_stiffness > 0,
+                 shape_term(dp::Bending<Real>{Real(par_.bending_stiffness)})});
+    terms_.term({"gravity", "", false, true, shape_term(dp::Gravity<Real>{gravity_})});
+    terms_.term({"wall/obstacle repulsion E_w", "eq. 3", false, has_surfaces(), [this] {
+                   p_.zero_forces();
+                   with_surfaces([&](const auto& q) { accumulate_surface_forces(q, p_, p_.v, repulsion()); });
+                 }});
+    terms_.term({"drag b∞, b0", "eqs. 5–6", true, par_.drag, [this] {
+                   p_.zero_forces();
+                   const dp::VertexWallRepulsion<Real> none(Real(0), Real(par_.vertex_diameter * l0_));
+                   with_surfaces([&](const auto& q) { accumulate_surface_forces(q, p_, p_.v, none, drag()); });
+                 }});
+    terms_.launch("shape loop (one kernel)",
+                  {"area elasticity K_a", "segment springs K_l", "line tension Γ", "bending K_b", "gravity"},
+                  [this](const typename particles_type::vector_view&) { shape_forces(true); });
+    terms_.launch("surface loop (one kernel)", {"wall/obstacle repulsion E_w", "drag b∞, b0"},
+                  [this](const typename particles_type::vector_view& u) {
+                    if (par_.drag)
+                      with_surfaces([&](const auto& q) { accumulate_surface_forces(q, p_, u, repulsion(), drag()); });
+                    else
+                      with_surfaces([&](const auto& q) { accumulate_surface_forces(q, p_, p_.v, repulsion()); });
+                  });
   }
 
   // f ← −∇(U_shape + U_gravity); returns that energy. One fused loop over the vertices; bending
@@ -437,6 +451,7 @@ class DropletScene {
   double l0_, b_inf_;
   Vec<2, Real> gravity_;
   std::optional<BodyObstacleList<Real, ExecSpace>> candidates_;  // with obstacles only
+  scene::TermList<const typename Particles<2, Real, ExecSpace>::vector_view&> terms_;
   long long steps_ = 0;
   bool shape_warned_ = false;
   static constexpr double candidate_skin = 0.5;  // σ
