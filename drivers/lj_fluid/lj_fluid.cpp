@@ -237,7 +237,8 @@ void run(const Parameters& par, const cli::DriverApp& app) {
   std::ofstream json(out.summary);
   const double steps_per_second = step > first && wall > 0 ? double(step - first) / wall : 0.0;
   json << std::setprecision(10) << "{\n  \"driver\": \"lj_fluid\",\n  \"dimension\": " << D << ",\n  \"precision\": \""
-       << par.precision << "\",\n  \"particles\": " << par.particles << ",\n  \"steps_run\": " << step - first
+       << par.precision << "\",\n  \"particles\": " << par.particles << ",\n  \"resumed_from_step\": " << (par.restart ? first : 0)
+       << ",\n  \"steps_run\": " << step - first
        << ",\n  \"wall_seconds\": " << wall << ",\n  \"steps_per_second\": " << steps_per_second
        << ",\n  \"particle_updates_per_second\": " << steps_per_second * par.particles
        << ",\n  \"neighbor_list_builds\": " << list.num_builds() - builds_before << ",\n  \"kokkos\": \""

@@ -43,6 +43,7 @@
 // observables per sample, parameters), <out>.xdmf, <out>_profile.csv (per bin: z, fluid count,
 // ⟨u_x⟩, u_s, pillar force density, Brinkman fit), <out>_layout.csv (pillar centres), <out>.json
 // (summary with the theory values), <out>.png (profile and fit).
+#include "drivers/common/checkpoint_stop.hpp"
 #include "drivers/common/cli.hpp"
 #include "drivers/common/output_paths.hpp"
 #include "drivers/common/particle_io.hpp"
@@ -215,6 +216,7 @@ void run_flow(const Parameters& par, const cli::DriverApp& app) {
   long long samples = 0, done = 0;              // samples taken; steps run after carving
   int solids = 0;
   std::optional<io::H5mdWriter> h5;
+  std::int64_t resumed_from_step = 0;  // the checkpoint's step after --restart
   const auto t0 = std::chrono::steady_clock::now();
   if (par.restart) {
     if (!io::checkpoint_exists(out.checkpoint))
@@ -270,7 +272,8 @@ void run_flow(const Parameters& par, const cli::DriverApp& app) {
     samples = ck.get_scalar_int64("samples/taken");
     done = ck.get_scalar_int64("steps_after_carving");
     solids = int(ck.get_scalar_int64("solid_particles"));
-    h5.emplace(io::H5mdWriter::resume(out.trajectory, std::int64_t(sys.current_step())));
+    resumed_from_step = std::int64_t(sys.current_step());
+    h5.emplace(io::H5mdWriter::resume(out.trajectory, resumed_from_step));
     if (!quiet) std::cerr << "pillars: resumed from " << out.checkpoint << " at step " << sys.current_step() << "\n";
   } else {
     pillars::fill_fluid(sys, g, par.density, std::uint64_t(par.seed));
@@ -304,6 +307,7 @@ void run_flow(const Parameters& par, const cli::DriverApp& app) {
 
   const auto checkpoint = [&] {
     h5->flush();
+    driver::before_checkpoint();
     io::CheckpointWriter ck(out.checkpoint);
     const std::size_t n = sys.particles.size();
     const std::vector<std::size_t> vec_shape{n, std::size_t(D)}, scalar_shape{n};
@@ -521,7 +525,9 @@ void run_flow(const Parameters& par, const cli::DriverApp& app) {
     }
     json << "}";
   }
-  json << ",\n  \"wall_seconds\": " << wall_seconds << ",\n  \"particle_steps_per_second\": "
+  json << ",\n  \"resumed_from_step\": " << resumed_from_step
+       << ",\n  \"steps_run\": " << std::int64_t(sys.current_step()) - resumed_from_step  // equilibration included
+       << ",\n  \"wall_seconds\": " << wall_seconds << ",\n  \"particle_steps_per_second\": "
        << double(sys.particles.size()) * double((par.restart ? 0 : par.equilibrate_steps) + total - first) / wall_seconds
        << ",\n  \"kokkos\": \"" << kokkos_configuration() << "\"\n}\n";
   json.close();

@@ -1,8 +1,14 @@
 #!/usr/bin/env bash
-# An obstacles sweep killed (SIGKILL) after some replicas have finished, then run again with
-# --restart, must recompute none of the finished replicas and end with the same results (HDF5
-# /results, CSV) as an uninterrupted sweep.
+# An obstacles sweep stopped after two replicas have finished, then run again with --restart, must
+# recompute none of the finished replicas and end with the same results (HDF5 /results, CSV) as an
+# uninterrupted sweep.
 #   obstacles_resume.sh <obstacles executable> <work dir> [driver arguments...]
+#
+# The stop is deterministic: the sweep writes its checkpoint once at the start (no replica finished)
+# and again after each finished replica; MESOFLOW_STOP_AFTER_CHECKPOINT=3
+# (drivers/common/checkpoint_stop.hpp) ends it with exit status 75, as SIGKILL would, when the third
+# replica has finished and its checkpoint is about to be written: two replicas are kept, the third
+# is lost work.
 set -euo pipefail
 exe="$1"; dir="$2"; shift 2
 rm -rf "$dir"; mkdir -p "$dir/straight" "$dir/killed"
@@ -13,19 +19,13 @@ compare="$(dirname "$0")/h5_identical.py"
 total=$(sed -n 's/.*"replicas_computed": \([0-9]*\).*/\1/p' "$dir/straight/run.json")
 
 finished() { h5dump -d /finished "$dir/killed/run.ckpt.h5" 2>/dev/null | sed -n 's/.*(0): \([0-9]*\).*/\1/p'; }
-"$exe" "${args[@]}" --output "$dir/killed/run.h5" &
-pid=$!
-for _ in $(seq 1 3000); do
-  n=$(finished || true)
-  [ -n "$n" ] && [ "$n" -ge 1 ] && break
-  sleep 0.01
-done
-kill -9 "$pid" 2>/dev/null || true
-wait "$pid" 2>/dev/null || true
-[ -f "$dir/killed/run.json" ] && { echo "FAIL: the sweep finished before it could be killed; give it more work" >&2; exit 1; }
+code=0
+MESOFLOW_STOP_AFTER_CHECKPOINT=3 "$exe" "${args[@]}" --output "$dir/killed/run.h5" || code=$?
+[ $code -eq 75 ] || { echo "FAIL: the sweep should stop after its third checkpoint with exit status 75, got $code" >&2; exit 1; }
+[ -f "$dir/killed/run.json" ] && { echo "FAIL: the stopped sweep wrote its summary" >&2; exit 1; }
 before=$(finished)
-echo "killed with $before of $total replicas finished"
-[ "$before" -ge 1 ] && [ "$before" -lt "$total" ] || { echo "FAIL: expected a partial checkpoint" >&2; exit 1; }
+echo "stopped with $before of $total replicas finished"
+[ "$before" = 2 ] && [ "$before" -lt "$total" ] || { echo "FAIL: expected a checkpoint of 2 of $total replicas" >&2; exit 1; }
 
 "$exe" "${args[@]}" --output "$dir/killed/run.h5" --restart
 computed=$(sed -n 's/.*"replicas_computed": \([0-9]*\).*/\1/p' "$dir/killed/run.json")
