@@ -1,4 +1,5 @@
 // checkpoint.cpp — see checkpoint.hpp.
+#include "io/checkpoint_stop.hpp"
 #include "checkpoint.hpp"
 
 #include <fcntl.h>
@@ -52,7 +53,7 @@ std::string shape_text(const std::vector<std::size_t>& shape) {
 // Writer
 
 CheckpointWriter::CheckpointWriter(const std::string& path)
-    : path_(path), tmp_path_(path + ".tmp"), file_(create_file(tmp_path_)) {
+    : path_((before_checkpoint(), path)), tmp_path_(path + ".tmp"), file_(create_file(tmp_path_)) {
   write_attribute(file_.get(), kMarker, kFormatVersion);
 }
 

@@ -2,7 +2,6 @@
 // checkpoints. Only output steps touch the host; the time-step loop never does.
 #pragma once
 
-#include "drivers/common/checkpoint_stop.hpp"
 #include "kernels/common/box.hpp"
 #include "kernels/common/neighbor_list.hpp"
 #include "kernels/common/particles.hpp"
@@ -80,7 +79,6 @@ template <int D, class Real, class ExecSpace>
 void write_checkpoint(const std::string& path, std::int64_t step, double time,
                       const Particles<D, Real, ExecSpace>& p, const NeighborList<D, Real, ExecSpace>& list,
                       const Box<D, Real>& box) {
-  before_checkpoint();
   io::CheckpointWriter w(path);
   const std::vector<std::size_t> vec_shape{p.size(), std::size_t(D)}, scalar_shape{p.size()};
   w.put_scalar("step", step);

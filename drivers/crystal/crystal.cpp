@@ -25,7 +25,6 @@
 // eq. 5; analysis/crystal/phonon_spectra.hpp), <out>_theory.csv and <out>_phonons.png
 // (scripts/plot_crystal.py). Frames before --warmup are written but left out of K and the spectra.
 // <out>.ckpt.h5 is replaced atomically every --checkpoint-interval; --restart continues from it.
-#include "drivers/common/checkpoint_stop.hpp"
 #include "drivers/common/cli.hpp"
 #include "scenes/common/nan_watchdog.hpp"
 #include "drivers/common/output_paths.hpp"
@@ -302,7 +301,6 @@ void run(const Parameters& par, const cli::DriverApp& app) {
   };
   const auto checkpoint = [&] {
     h5->flush();
-    driver::before_checkpoint();
     io::CheckpointWriter ck(out.checkpoint);
     const auto put = [&](const std::string& name, const auto& data, std::size_t cols) {
       ck.put(name, data.data(), cols ? std::vector<std::size_t>{data.size() / cols, cols}

@@ -31,7 +31,6 @@
 // writes the files above and merges the rank checkpoints into <out>.ckpt.h5, then removes them.
 // --restart reads <out>.ckpt.h5 and every <out>.rank<r>.ckpt.h5, whatever the number of ranks now.
 // A replica's record depends only on its seed, so the results do not depend on the number of ranks.
-#include "drivers/common/checkpoint_stop.hpp"
 #include "drivers/common/cli.hpp"
 #include "drivers/common/ensemble_mpi.hpp"
 #include "drivers/common/output_paths.hpp"
@@ -137,7 +136,6 @@ void write_checkpoint(const std::string& path, const std::string& parameters, co
     const double row[5] = {r.distance, r.time, r.final_x, r.final_y, r.steady_speed};
     std::copy(row, row + 5, values.begin() + std::ptrdiff_t(5 * k));
   }
-  driver::before_checkpoint();
   io::CheckpointWriter w(path);
   w.put_string("parameters", parameters);
   w.put_scalar("finished", std::int64_t(n));

@@ -43,7 +43,6 @@
 // observables per sample, parameters), <out>.xdmf, <out>_profile.csv (per bin: z, fluid count,
 // ⟨u_x⟩, u_s, pillar force density, Brinkman fit), <out>_layout.csv (pillar centres), <out>.json
 // (summary with the theory values), <out>.png (profile and fit).
-#include "drivers/common/checkpoint_stop.hpp"
 #include "drivers/common/cli.hpp"
 #include "drivers/common/output_paths.hpp"
 #include "drivers/common/particle_io.hpp"
@@ -307,7 +306,6 @@ void run_flow(const Parameters& par, const cli::DriverApp& app) {
 
   const auto checkpoint = [&] {
     h5->flush();
-    driver::before_checkpoint();
     io::CheckpointWriter ck(out.checkpoint);
     const std::size_t n = sys.particles.size();
     const std::vector<std::size_t> vec_shape{n, std::size_t(D)}, scalar_shape{n};

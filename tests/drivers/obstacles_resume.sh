@@ -6,7 +6,7 @@
 #
 # The stop is deterministic: the sweep writes its checkpoint once at the start (no replica finished)
 # and again after each finished replica; MESOFLOW_STOP_AFTER_CHECKPOINT=3
-# (drivers/common/checkpoint_stop.hpp) ends it with exit status 75, as SIGKILL would, when the third
+# (io/checkpoint_stop.hpp) ends it with exit status 75, as SIGKILL would, when the third
 # replica has finished and its checkpoint is about to be written: two replicas are kept, the third
 # is lost work.
 set -euo pipefail

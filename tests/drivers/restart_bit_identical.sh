@@ -4,7 +4,7 @@
 # count: same final checkpoint, same trajectory frames and observables.
 #   restart_bit_identical.sh <driver executable> <work dir> [driver arguments...]
 #
-# The stop is deterministic: MESOFLOW_STOP_AFTER_CHECKPOINT=1 (drivers/common/checkpoint_stop.hpp)
+# The stop is deterministic: MESOFLOW_STOP_AFTER_CHECKPOINT=1 (io/checkpoint_stop.hpp)
 # ends the driver with exit status 75 when it comes to write its second checkpoint, without
 # destructors or closing files, as SIGKILL would. The steps it ran after the first checkpoint, and
 # the frames it flushed past it, are work the restart must redo and drop; the test checks that there

@@ -1,11 +1,11 @@
-#include "drivers/common/checkpoint_stop.hpp"
+#include "io/checkpoint_stop.hpp"
 
 #include <cstdio>
 #include <cstdlib>
 #include <stdexcept>
 #include <string>
 
-namespace mesoflow::driver {
+namespace mesoflow::io {
 
 namespace {
 
@@ -35,4 +35,4 @@ void before_checkpoint() {
   ++written;
 }
 
-}  // namespace mesoflow::driver
+}  // namespace mesoflow::io
