@@ -24,11 +24,21 @@
 #include "scenes/pillars/mdpd_system.hpp"
 
 #include <cmath>
+#include <cstring>
 
 namespace mesoflow {
 namespace {
 
 using Exec = Kokkos::DefaultExecutionSpace;
+
+// 1 when two Views hold the same bits (the generic loop against the reference loop, same inputs).
+template <class A, class B>
+double same_bits(const A& a, const B& b) {
+  auto ha = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), a);
+  auto hb = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), b);
+  const std::size_t bytes = ha.span() * sizeof(typename decltype(ha)::value_type);
+  return ha.span() == hb.span() && std::memcmp(ha.data(), hb.data(), bytes) == 0 ? 1.0 : 0.0;
+}
 
 template <int D, class Real, NeighborListKind Kind>
 void BM_MdpdStep(benchmark::State& state) {
@@ -132,6 +142,10 @@ void BM_MdpdDensityLoop(benchmark::State& state) {
     }
   });
   state.SetItemsProcessed(std::int64_t(state.iterations()) * evaluations * s.n);
+  Kokkos::View<Real*, Exec> rho_ref("bench::rho_ref", s.n);
+  reference.compute(s.xr, s.sys.neighbor_list(), s.sys.box(), rho_ref);
+  generic.compute(s.xr, s.sys.neighbor_list(), s.sys.box(), s.rho);
+  state.counters["bitwise_equal"] = same_bits(s.rho, rho_ref);
 }
 
 template <int D, class Real, NeighborListKind Kind>
@@ -155,6 +169,13 @@ void BM_MdpdPairForceLoop(benchmark::State& state) {
     }
   });
   state.SetItemsProcessed(std::int64_t(state.iterations()) * evaluations * s.n);
+  typename MdpdLiquid<D, Real, Kind>::rows_view fr_ref("bench::fr_ref", s.n);
+  typename Particles<D, Real, Exec>::vector_view drag_ref("bench::drag_ref", flags ? s.n : 0);
+  reference.compute(s.xr, s.vr, s.sys.particles.type, s.sys.tag, s.sys.neighbor_list(), s.sys.box(), step, flags,
+                    fr_ref, drag_ref);
+  generic.compute(s.xr, s.vr, s.sys.particles.type, s.sys.tag, s.sys.neighbor_list(), s.sys.box(), step, flags, s.fr,
+                  drag);
+  state.counters["bitwise_equal"] = same_bits(s.fr, fr_ref) * (flags ? same_bits(drag, drag_ref) : 1.0);
 }
 
 constexpr auto half = NeighborListKind::half;

@@ -27,12 +27,22 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <random>
 
 namespace mesoflow {
 namespace {
 
 using Exec = Kokkos::DefaultExecutionSpace;
+
+// 1 when two Views hold the same bits (the generic loop against the reference loop, same inputs).
+template <class A, class B>
+double same_bits(const A& a, const B& b) {
+  auto ha = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), a);
+  auto hb = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), b);
+  const std::size_t bytes = ha.span() * sizeof(typename decltype(ha)::value_type);
+  return ha.span() == hb.span() && std::memcmp(ha.data(), hb.data(), bytes) == 0 ? 1.0 : 0.0;
+}
 
 // n bidisperse disks (σ = 1, 1.4, alternating) at random in a periodic square at packing fraction
 // 0.85, with small random velocities: most overlap several neighbours; E_sp = 100 contacts and their
@@ -202,6 +212,13 @@ void BM_PairLoopSoftSphere2D(benchmark::State& state) {
     else
       pair.accumulate_forces(s.contacts, s.p, s.list, s.box);
   });
+  auto f_ref = Kokkos::create_mirror(s.p.f);
+  s.p.zero_forces();
+  reference.accumulate_forces(s.contacts, s.p, s.list, s.box);
+  Kokkos::deep_copy(f_ref, s.p.f);
+  s.p.zero_forces();
+  pair.accumulate_forces(s.contacts, s.p, s.list, s.box);
+  state.counters["bitwise_equal"] = same_bits(s.p.f, f_ref);
 }
 
 // Kinetic friction (eq. 6), range(1) the component as above; range(2): 0 generic loop, 1 the
@@ -218,6 +235,13 @@ void BM_PairLoopKineticFriction2D(benchmark::State& state) {
     else
       sp::accumulate_kinetic_friction(0.5, s.contacts, s.p, s.p.v, s.list, s.box, component);
   });
+  auto f_ref = Kokkos::create_mirror(s.p.f);
+  s.p.zero_forces();
+  sp::reference_kinetic_friction(0.5, s.contacts, s.p, s.p.v, s.list, s.box, component);
+  Kokkos::deep_copy(f_ref, s.p.f);
+  s.p.zero_forces();
+  sp::accumulate_kinetic_friction(0.5, s.contacts, s.p, s.p.v, s.list, s.box, component);
+  state.counters["bitwise_equal"] = same_bits(s.p.f, f_ref);
 }
 
 // Smooth DP contacts (Appendix A) of the polygon lattice of BM_DeformablePolygonContacts; range(1):
@@ -264,6 +288,13 @@ void BM_PairLoopSmoothVertexContacts(benchmark::State& state) {
     else
       dp::accumulate_smooth_vertex_contacts(contacts, polygons, p, list, box);
   });
+  auto f_ref = Kokkos::create_mirror(p.f);
+  p.zero_forces();
+  const double e_ref = dp::reference_smooth_vertex_contacts(contacts, polygons, p, list, box);
+  Kokkos::deep_copy(f_ref, p.f);
+  p.zero_forces();
+  const double e = dp::accumulate_smooth_vertex_contacts(contacts, polygons, p, list, box);
+  state.counters["bitwise_equal"] = same_bits(p.f, f_ref) * (e == e_ref ? 1.0 : 0.0);
 }
 
 BENCHMARK(BM_SoftParticleWallRepulsion2D)->Arg(20000)->UseManualTime()->Unit(benchmark::kMillisecond);

@@ -26,11 +26,21 @@
 #include "scenes/capsule/sph_system.hpp"
 
 #include <cmath>
+#include <cstring>
 
 namespace mesoflow {
 namespace {
 
 using Exec = Kokkos::DefaultExecutionSpace;
+
+// 1 when two Views hold the same bits (the generic loop against the reference loop, same inputs).
+template <class A, class B>
+double same_bits(const A& a, const B& b) {
+  auto ha = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), a);
+  auto hb = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), b);
+  const std::size_t bytes = ha.span() * sizeof(typename decltype(ha)::value_type);
+  return ha.span() == hb.span() && std::memcmp(ha.data(), hb.data(), bytes) == 0 ? 1.0 : 0.0;
+}
 
 // Mean number of neighbours within the kernel support.
 template <class Real, class Sys>
@@ -147,6 +157,11 @@ void BM_SphPairLoop(benchmark::State& state) {
     }
   });
   state.SetItemsProcessed(std::int64_t(state.iterations()) * evaluations * n);
+  typename Particles<3, Real, Exec>::vector_view f_ref("bench::f_ref", n);
+  Kokkos::View<Real*, Exec> drho_ref("bench::drho_ref", n);
+  reference.compute(rows, sys.particles.type, sys.neighbor_list(), sys.box(), f_ref, drho_ref);
+  generic.compute(rows, sys.particles.type, sys.neighbor_list(), sys.box(), f, drho);
+  state.counters["bitwise_equal"] = same_bits(f, f_ref) * same_bits(drho, drho_ref);
 }
 
 constexpr auto half = NeighborListKind::half;
