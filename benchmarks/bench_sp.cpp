@@ -7,6 +7,9 @@
 //   BM_SoftParticleWallRepulsion2D: eq. 3 over the four walls of a 2D hopper, particles filling it.
 //   BM_DeformablePolygonContacts: rough (eq. 9 + friction eq. 12) and smooth (Appendix A) contacts
 //     of bidisperse 16-gons pressed against their neighbours on a square lattice.
+// Issue 24, item 3 (one pair loop): BM_PairLoop* time each contact term through the generic loop of
+// kernels/common/pair_force.hpp (last argument 0) against its model-specific loop as it was before
+// (1, benchmarks/reference_pair_loops.hpp), in the same run.
 #include "kernels/common/geometry.hpp"
 #include "kernels/common/neighbor_list.hpp"
 #include "kernels/common/pair_force.hpp"
@@ -18,16 +21,28 @@
 #include "kernels/sp/pair_repulsion.hpp"
 #include "kernels/sp/wall_repulsion.hpp"
 
+#include "reference_pair_loops.hpp"
+
 #include <benchmark/benchmark.h>
 
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <random>
 
 namespace mesoflow {
 namespace {
 
 using Exec = Kokkos::DefaultExecutionSpace;
+
+// 1 when two Views hold the same bits (the generic loop against the reference loop, same inputs).
+template <class A, class B>
+double same_bits(const A& a, const B& b) {
+  auto ha = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), a);
+  auto hb = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), b);
+  const std::size_t bytes = ha.span() * sizeof(typename decltype(ha)::value_type);
+  return ha.span() == hb.span() && std::memcmp(ha.data(), hb.data(), bytes) == 0 ? 1.0 : 0.0;
+}
 
 // n bidisperse disks (σ = 1, 1.4, alternating) at random in a periodic square at packing fraction
 // 0.85, with small random velocities: most overlap several neighbours; E_sp = 100 contacts and their
@@ -182,10 +197,113 @@ void BM_DeformablePolygonContacts(benchmark::State& state) {
   state.SetItemsProcessed(int64_t(state.iterations()) * evaluations * bodies * nv);
 }
 
+// Soft-sphere repulsion (eq. 2) alone, forces only (the hopper step's call); range(1): 0 generic
+// loop, 1 the pre-item-3 PairForce loop.
+void BM_PairLoopSoftSphere2D(benchmark::State& state) {
+  const int n = int(state.range(0));
+  DensePacking s(n);
+  PairForce<2, double, Exec> pair;
+  ReferencePairForce<2, double, Exec> reference;
+  const bool ref = state.range(1) == 1;
+  time_evaluations(state, n, [&] {
+    s.p.zero_forces();
+    if (ref)
+      reference.accumulate_forces(s.contacts, s.p, s.list, s.box);
+    else
+      pair.accumulate_forces(s.contacts, s.p, s.list, s.box);
+  });
+  auto f_ref = Kokkos::create_mirror(s.p.f);
+  s.p.zero_forces();
+  reference.accumulate_forces(s.contacts, s.p, s.list, s.box);
+  Kokkos::deep_copy(f_ref, s.p.f);
+  s.p.zero_forces();
+  pair.accumulate_forces(s.contacts, s.p, s.list, s.box);
+  state.counters["bitwise_equal"] = same_bits(s.p.f, f_ref);
+}
+
+// Kinetic friction (eq. 6), range(1) the component as above; range(2): 0 generic loop, 1 the
+// pre-item-3 loop.
+void BM_PairLoopKineticFriction2D(benchmark::State& state) {
+  const int n = int(state.range(0));
+  const auto component = state.range(1) == 1 ? sp::FrictionComponent::tangential : sp::FrictionComponent::full;
+  const bool ref = state.range(2) == 1;
+  DensePacking s(n);
+  time_evaluations(state, n, [&] {
+    s.p.zero_forces();
+    if (ref)
+      sp::reference_kinetic_friction(0.5, s.contacts, s.p, s.p.v, s.list, s.box, component);
+    else
+      sp::accumulate_kinetic_friction(0.5, s.contacts, s.p, s.p.v, s.list, s.box, component);
+  });
+  auto f_ref = Kokkos::create_mirror(s.p.f);
+  s.p.zero_forces();
+  sp::reference_kinetic_friction(0.5, s.contacts, s.p, s.p.v, s.list, s.box, component);
+  Kokkos::deep_copy(f_ref, s.p.f);
+  s.p.zero_forces();
+  sp::accumulate_kinetic_friction(0.5, s.contacts, s.p, s.p.v, s.list, s.box, component);
+  state.counters["bitwise_equal"] = same_bits(s.p.f, f_ref);
+}
+
+// Smooth DP contacts (Appendix A) of the polygon lattice of BM_DeformablePolygonContacts; range(1):
+// 0 generic loop, 1 the pre-item-3 loop.
+void BM_PairLoopSmoothVertexContacts(benchmark::State& state) {
+  const int bodies = int(state.range(0)), nv = 16;
+  const bool ref = state.range(1) == 1;
+  const int side = int(std::ceil(std::sqrt(double(bodies))));
+  const double spacing = 1.15, L = side * spacing;
+  std::vector<int> counts(bodies, nv);
+  std::vector<double> a0(bodies), l0(bodies);
+  for (int b = 0; b < bodies; ++b) {
+    const double sigma = b % 2 ? 1.4 : 1.0;
+    a0[b] = 0.25 * dp::pi * sigma * sigma;
+    l0[b] = dp::regular_polygon_edge(a0[b], nv);
+  }
+  const auto polygons = dp::Polygons<double, Exec>::from_vertex_counts(counts, a0, l0);
+  Particles<2, double, Exec> p(bodies * nv, "bench_dp_smooth");
+  dp::assign_bodies(polygons, p);
+  {
+    auto x = Kokkos::create_mirror_view(p.x);
+    auto type = Kokkos::create_mirror_view(p.type);
+    for (int b = 0; b < bodies; ++b) {
+      const double R = 0.5 * (b % 2 ? 1.4 : 1.0);
+      for (int k = 0; k < nv; ++k) {
+        const int i = b * nv + k;
+        x(i, 0) = ((b % side) + 0.5) * spacing + R * std::cos(2 * dp::pi * k / nv);
+        x(i, 1) = ((b / side) + 0.5) * spacing + R * std::sin(2 * dp::pi * k / nv);
+        type(i) = b % 2;
+      }
+    }
+    Kokkos::deep_copy(p.x, x);
+    Kokkos::deep_copy(p.type, type);
+  }
+  const Box<2, double> box = Box<2, double>::cube(L, true);
+  const sp::SoftSphereRepulsion<double> contacts(1e4, {0.1 * l0[0], 0.1 * l0[1]});
+  NeighborList<2, double, Exec> list(1.5 * l0[1] + contacts.cutoff(), 0.05, NeighborListKind::full,
+                                     BodyExclusion::same_body);
+  list.build(p, box);
+  time_evaluations(state, bodies * nv, [&] {
+    p.zero_forces();
+    if (ref)
+      dp::reference_smooth_vertex_contacts(contacts, polygons, p, list, box);
+    else
+      dp::accumulate_smooth_vertex_contacts(contacts, polygons, p, list, box);
+  });
+  auto f_ref = Kokkos::create_mirror(p.f);
+  p.zero_forces();
+  const double e_ref = dp::reference_smooth_vertex_contacts(contacts, polygons, p, list, box);
+  Kokkos::deep_copy(f_ref, p.f);
+  p.zero_forces();
+  const double e = dp::accumulate_smooth_vertex_contacts(contacts, polygons, p, list, box);
+  state.counters["bitwise_equal"] = same_bits(p.f, f_ref) * (e == e_ref ? 1.0 : 0.0);
+}
+
 BENCHMARK(BM_SoftParticleWallRepulsion2D)->Arg(20000)->UseManualTime()->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_DeformablePolygonContacts)->Args({1600, 0})->Args({1600, 1})->UseManualTime()->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_SoftParticleContactForces2D)->Arg(1600)->Arg(20000)->UseManualTime()->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_SoftParticleKineticFriction2D)->Args({20000, 0})->Args({20000, 1})->UseManualTime()->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_PairLoopSoftSphere2D)->Args({20000, 0})->Args({20000, 1})->UseManualTime()->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_PairLoopKineticFriction2D)->Args({20000, 0, 0})->Args({20000, 0, 1})->Args({20000, 1, 0})->Args({20000, 1, 1})->UseManualTime()->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_PairLoopSmoothVertexContacts)->Args({1600, 0})->Args({1600, 1})->UseManualTime()->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace mesoflow

@@ -13,6 +13,12 @@
 // The half-list variants (the default, each pair once, SphOptions) against the full-list ones
 // (each row sums its own particle: the same bits on any thread count).
 // Each configuration runs 100 steps before timing.
+// Issue 24, item 3 (one pair loop): BM_SphPairLoop times the pair interactions alone (eqs. 4–5 on
+// packed rows, 20 steps into the run), through the generic loop of kernels/common/pair_force.hpp
+// (impl 0) against the pre-item-3 loop (impl 1, benchmarks/reference_pair_loops.hpp), in the same
+// run; items = particle-evaluations.
+#include "reference_pair_loops.hpp"
+
 #include <benchmark/benchmark.h>
 
 #include "manual_timing.hpp"
@@ -20,11 +26,21 @@
 #include "scenes/capsule/sph_system.hpp"
 
 #include <cmath>
+#include <cstring>
 
 namespace mesoflow {
 namespace {
 
 using Exec = Kokkos::DefaultExecutionSpace;
+
+// 1 when two Views hold the same bits (the generic loop against the reference loop, same inputs).
+template <class A, class B>
+double same_bits(const A& a, const B& b) {
+  auto ha = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), a);
+  auto hb = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), b);
+  const std::size_t bytes = ha.span() * sizeof(typename decltype(ha)::value_type);
+  return ha.span() == hb.span() && std::memcmp(ha.data(), hb.data(), bytes) == 0 ? 1.0 : 0.0;
+}
 
 // Mean number of neighbours within the kernel support.
 template <class Real, class Sys>
@@ -94,12 +110,70 @@ void BM_SphStep(benchmark::State& state) {
   state.counters["steps_per_rebuild"] = steps / std::max(1, sys.neighbor_list().num_builds() - builds_before);
 }
 
+template <class Real, NeighborListKind Kind>
+void BM_SphPairLoop(benchmark::State& state) {
+  const int side = int(std::lround(std::cbrt(double(state.range(0)))));
+  const int n = side * side * side;
+  const bool ref = state.range(1) == 1;
+  const double rho0 = 1, u = 0.1, nu = 0.01, support = 2.5;
+  const double c0 = sph::speed_of_sound_for_velocity(u);
+  const sph::LucyKernel<3, Real> kernel{Real(support)};
+  const double dt = sph::sph_time_step_limits(sph::time_step_length(kernel), nu, c0, 0.0).dt();
+  sph::SphOptions opt;
+  opt.list_kind = Kind;
+  const sph::TaitEquationOfState<Real> eos(rho0, c0);
+  sph::SphSystem<3, Real, Exec> sys(kernel, eos, Box<3, Real>::cube(Real(side), true), Real(dt), opt);
+  sys.allocate(n);
+  {
+    auto x = Kokkos::create_mirror_view(sys.particles.x);
+    for (int a = 0, i = 0; a < side; ++a)
+      for (int b = 0; b < side; ++b)
+        for (int c = 0; c < side; ++c, ++i) {
+          x(i, 0) = Real(a + 0.5);
+          x(i, 1) = Real(b + 0.5);
+          x(i, 2) = Real(c + 0.5);
+        }
+    Kokkos::deep_copy(sys.particles.x, x);
+  }
+  const Real lo[3] = {Real(-u), Real(-u), Real(-u)}, hi[3] = {Real(u), Real(u), Real(u)};
+  fill_uniform_counter(sys.particles.v, lo, hi, 7, 1);
+  Kokkos::deep_copy(sys.particles.mass, Real(rho0));
+  Kokkos::deep_copy(sys.mu, Real(nu * rho0));
+  sys.begin();
+  for (int s = 0; s < 20; ++s) sys.step();
+  sph::SphRows<3, Real, Exec> rows("bench::sph_rows", n);
+  Kokkos::View<Real*, Exec> pressure("bench::pressure", n), drho("bench::drho", n);
+  typename Particles<3, Real, Exec>::vector_view f("bench::f", n);
+  sph::pack_sph_rows(sys.particles, sys.u_bar, sys.rho, sys.mu, eos, rows, pressure);
+  sph::SphPairInteractions<3, Real, Exec, sph::LucyKernel<3, Real>> generic(kernel, sph::BodyForce<3, Real>{});
+  sph::ReferenceSphPairInteractions<3, Real, Exec, sph::LucyKernel<3, Real>> reference(kernel, sph::BodyForce<3, Real>{});
+  constexpr int evaluations = 10;
+  bench::timed(state, [&] {
+    for (int k = 0; k < evaluations; ++k) {
+      if (ref)
+        reference.compute(rows, sys.particles.type, sys.neighbor_list(), sys.box(), f, drho);
+      else
+        generic.compute(rows, sys.particles.type, sys.neighbor_list(), sys.box(), f, drho);
+    }
+  });
+  state.SetItemsProcessed(std::int64_t(state.iterations()) * evaluations * n);
+  typename Particles<3, Real, Exec>::vector_view f_ref("bench::f_ref", n);
+  Kokkos::View<Real*, Exec> drho_ref("bench::drho_ref", n);
+  reference.compute(rows, sys.particles.type, sys.neighbor_list(), sys.box(), f_ref, drho_ref);
+  generic.compute(rows, sys.particles.type, sys.neighbor_list(), sys.box(), f, drho);
+  state.counters["bitwise_equal"] = same_bits(f, f_ref) * same_bits(drho, drho_ref);
+}
+
 constexpr auto half = NeighborListKind::half;
 constexpr auto full = NeighborListKind::full;
 
 BENCHMARK_TEMPLATE(BM_SphStep, double, half)->Args({100000, 10, 1})->Args({100000, 20, 1})->Args({100000, 10, 2})->Args({100000, 20, 2})->UseManualTime()->Unit(benchmark::kMillisecond);
 BENCHMARK_TEMPLATE(BM_SphStep, double, full)->Args({100000, 10, 1})->Args({100000, 20, 1})->UseManualTime()->Unit(benchmark::kMillisecond);
 BENCHMARK_TEMPLATE(BM_SphStep, float, half)->Args({100000, 10, 1})->UseManualTime()->Unit(benchmark::kMillisecond);
+
+// Generic (impl 0) against the pre-item-3 loop (impl 1): particles, impl.
+BENCHMARK_TEMPLATE(BM_SphPairLoop, double, half)->Args({27000, 0})->Args({27000, 1})->UseManualTime()->Unit(benchmark::kMillisecond);
+BENCHMARK_TEMPLATE(BM_SphPairLoop, double, full)->Args({27000, 0})->Args({27000, 1})->UseManualTime()->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace mesoflow

@@ -9,7 +9,8 @@
 // r_nj − r_mi at a cap): frictionless. Its reaction is shared by the edge's vertices, (1 − t) and t
 // of it (envelope theorem), so each contact exchanges no net force.
 //
-// One pass over a full neighbor list of vertices excluding pairs of the same particle, each vertex
+// An evaluator of the generic pair loop (kernels/common/pair_force.hpp) over a full neighbor list of
+// vertices excluding pairs of the same particle, each vertex
 // summing its own force in its three roles (deterministic, no atomics): as the point against the
 // edges starting at its neighbours, as the first vertex of its own edge i → i+1, and as the second
 // vertex of its edge i−1 → i, against neighbouring points. The list's cutoff must cover the longest
@@ -19,6 +20,7 @@
 #include "kernels/common/box.hpp"
 #include "kernels/common/kokkos_compat.hpp"
 #include "kernels/common/neighbor_list.hpp"
+#include "kernels/common/pair_force.hpp"
 #include "kernels/common/particles.hpp"
 #include "kernels/dp/polygons.hpp"
 #include "kernels/sp/pair_repulsion.hpp"
@@ -80,6 +82,52 @@ Real smooth_contact_reach(const Polygons<Real, ExecSpace>& polygons, const Parti
   return longest + widths.cutoff();
 }
 
+// The three roles of vertex i against a neighbouring vertex j, as an evaluator of the generic pair
+// loop (full list): the contact geometry takes its own separations, so the loop applies no image
+// convention and no screen; `sum` receives the energy of role (a).
+template <class Real, class ExecSpace>
+struct SmoothVertexContactEvaluator : PairEvaluatorTraits {
+  static constexpr MinimumImage image = MinimumImage::none;
+  using vector_view = typename Particles<2, Real, ExecSpace>::vector_view;
+  sp::SoftSphereRepulsion<Real> widths;
+  Kokkos::View<int*, ExecSpace> offset, body;
+  vector_view x, f;
+  Kokkos::View<int*, ExecSpace> type;
+  Box<2, Real> box;
+
+  struct Row {
+    Vec<2, Real> xi, x_next, x_prev;
+    int ti;
+    Vec<2, Real> fi;
+  };
+  KOKKOS_INLINE_FUNCTION Row begin(FullList, int i) const {
+    const int bi = body(i), begin_i = offset(bi), n_i = offset(bi + 1) - begin_i;
+    return {Vec<2, Real>::load(x, i), Vec<2, Real>::load(x, next_vertex(i, 1, begin_i, n_i)),
+            Vec<2, Real>::load(x, prev_vertex(i, 1, begin_i, n_i)), type(i), Vec<2, Real>::zero()};
+  }
+  KOKKOS_INLINE_FUNCTION void operator()(FullList, Row& s, int, int j, const Vec<2, Real>&, Real, double& acc) const {
+    using smooth_contact_detail::contact;
+    const Real width = widths.contact[s.ti][type(j)];
+    const Vec<2, Real> xj = Vec<2, Real>::load(x, j);
+    Real fm, t, e;
+    Vec<2, Real> u;
+    // (a) i the point, against the edge j → next(j) of the other particle.
+    const int bj = body(j), begin_j = offset(bj), n_j = offset(bj + 1) - begin_j;
+    if (contact(s.xi, xj, Vec<2, Real>::load(x, next_vertex(j, 1, begin_j, n_j)), box, width, widths.epsilon, fm, u,
+                t, e)) {
+      s.fi += fm * u;
+      acc += double(e);
+    }
+    // (b) i the first vertex of its edge i → next(i), against the point j.
+    if (contact(xj, s.xi, s.x_next, box, width, widths.epsilon, fm, u, t, e)) s.fi += (-(Real(1) - t) * fm) * u;
+    // (c) i the second vertex of its edge prev(i) → i, against the point j (no share at a cap).
+    if (contact(xj, s.x_prev, s.xi, box, width, widths.epsilon, fm, u, t, e)) s.fi += (-t * fm) * u;
+  }
+  KOKKOS_INLINE_FUNCTION void end(FullList, Row& s, int i, double&) const {
+    for (int d = 0; d < 2; ++d) f(i, d) += s.fi[d];
+  }
+};
+
 // Adds the contact forces to p.f and returns the energy. `widths`: ε_c and δ of each vertex type
 // (the particle's size class), as a SoftSphereRepulsion. Throws if the list does not exclude pairs of
 // the same body or its cutoff (plus skin) is shorter than smooth_contact_reach.
@@ -96,47 +144,8 @@ double accumulate_smooth_vertex_contacts(const sp::SoftSphereRepulsion<Real>& wi
   if (reach > list.cutoff())
     throw std::invalid_argument("dp smooth contacts: an edge plus the contact width (" + std::to_string(double(reach)) +
                                 ") exceeds the neighbor-list cutoff " + std::to_string(double(list.cutoff())));
-  const auto offset = polygons.offset;
-  const auto body = polygons.body;
-  const auto x = p.x;
-  const auto f = p.f;
-  const auto type = p.type;
-  const auto nbr = list.data();
-  double energy = 0;
-  Kokkos::parallel_reduce(
-      "mesoflow::dp::smooth_vertex_contacts", Kokkos::RangePolicy<ExecSpace>(0, p.size()),
-      KOKKOS_LAMBDA(int row, double& acc) {
-        using smooth_contact_detail::contact;
-        const int i = nbr.particle(row);
-        const int bi = body(i), begin_i = offset(bi), n_i = offset(bi + 1) - begin_i;
-        const Vec<2, Real> xi = Vec<2, Real>::load(x, i);
-        const Vec<2, Real> x_next = Vec<2, Real>::load(x, next_vertex(i, 1, begin_i, n_i));
-        const Vec<2, Real> x_prev = Vec<2, Real>::load(x, prev_vertex(i, 1, begin_i, n_i));
-        const int ti = type(i);
-        Vec<2, Real> fi = Vec<2, Real>::zero();
-        const int nn = nbr.num_neighbors(row);
-        for (int k = 0; k < nn; ++k) {
-          const int j = nbr.neighbor(row, k);
-          const Real width = widths.contact[ti][type(j)];
-          const Vec<2, Real> xj = Vec<2, Real>::load(x, j);
-          Real fm, t, e;
-          Vec<2, Real> u;
-          // (a) i the point, against the edge j → next(j) of the other particle.
-          const int bj = body(j), begin_j = offset(bj), n_j = offset(bj + 1) - begin_j;
-          if (contact(xi, xj, Vec<2, Real>::load(x, next_vertex(j, 1, begin_j, n_j)), box, width, widths.epsilon, fm,
-                      u, t, e)) {
-            fi += fm * u;
-            acc += double(e);
-          }
-          // (b) i the first vertex of its edge i → next(i), against the point j.
-          if (contact(xj, xi, x_next, box, width, widths.epsilon, fm, u, t, e)) fi += (-(Real(1) - t) * fm) * u;
-          // (c) i the second vertex of its edge prev(i) → i, against the point j (no share at a cap).
-          if (contact(xj, x_prev, xi, box, width, widths.epsilon, fm, u, t, e)) fi += (-t * fm) * u;
-        }
-        for (int d = 0; d < 2; ++d) f(i, d) += fi[d];
-      },
-      energy);
-  return energy;
+  const SmoothVertexContactEvaluator<Real, ExecSpace> ev{{}, widths, polygons.offset, polygons.body, p.x, p.f, p.type, box};
+  return reduce_pairs("mesoflow::dp::smooth_vertex_contacts", FullList{}, list, box, p.x, ev);
 }
 
 }  // namespace mesoflow::dp

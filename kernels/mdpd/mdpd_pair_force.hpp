@@ -3,8 +3,10 @@
 // particles and solid-core particles (paper §2.5.1, particle_types.hpp), in a single pass over a
 // neighbor list. The terms share the pair geometry, so fusing them reads each pair once.
 //
-// Model only what the scene needs: the thermostat terms are compiled out when D = R = 0, and the
-// WCA test when the scene has no solid-core particles.
+// An evaluator of the generic pair loop (kernels/common/pair_force.hpp). Model only what the scene
+// needs: the thermostat terms are compiled out when D = R = 0; the WCA test (no solid-core
+// particles) and the drag record are skipped by uniform run-time flags. Instantiations: 4 (list
+// kind × thermostat), were 16 (list kind × thermostat × core × record).
 //
 // Full list: each row sums the forces on its own particle, deterministic. Half list: each pair
 // once (one random number per pair instead of two), the reaction scattered through a ScatterView.
@@ -21,6 +23,7 @@
 #include "kernels/common/box.hpp"
 #include "kernels/common/lennard_jones.hpp"
 #include "kernels/common/neighbor_list.hpp"
+#include "kernels/common/pair_force.hpp"
 #include "kernels/common/particles.hpp"
 #include "packed_state.hpp"
 #include "particle_types.hpp"
@@ -30,6 +33,129 @@
 #include <cstdint>
 
 namespace mesoflow::mdpd {
+
+// F_ij/r for the pair (i, j) at separation dr = x_i − x_j; false beyond every cut-off. `core`: the
+// scene has solid-core particles (the WCA term).
+template <bool Thermo, int D, class Real>
+KOKKOS_INLINE_FUNCTION bool mdpd_pair(const ConservativeForce<D, Real>& cons, const DissipativeRandomForce<Real>& thermo,
+                                      const LennardJones<Real>& wca, Real rA2, bool core, const Vec<D, Real>& dr,
+                                      Real r2, int type_i, int type_j, Real rho_i, Real rho_j, const Vec<D, Real>& vij,
+                                      std::uint64_t step, std::uint32_t tag_i, std::uint32_t tag_j, Real& force_over_r) {
+  Real fr = 0;
+  bool hit = false;
+  if (r2 < rA2) {
+    const Real r = kmath::sqrt(r2);
+    const Real inv_r = Real(1) / r;
+    Real f = cons.magnitude(r, r2, rho_i, rho_j);
+    if constexpr (Thermo) f += thermo.magnitude(r, dot(vij, dr) * inv_r, step, tag_i, tag_j);
+    fr = f * inv_r;
+    hit = true;
+  }
+  if (core) {
+    const bool fluid_core = (type_i == particle_type::fluid && type_j == particle_type::solid_core) ||
+                            (type_j == particle_type::fluid && type_i == particle_type::solid_core);
+    Real fw, unused;
+    if (fluid_core && wca.evaluate(r2, type_i, type_j, fw, unused)) {
+      fr += fw;
+      hit = true;
+    }
+  }
+  force_over_r = fr;
+  return hit;
+}
+
+// Eq. (8) + WCA as an evaluator of the generic pair loop. Compile-time switches: the list tag and
+// Thermo (the dissipative + random terms); the WCA term (`core`) and the drag record (`record`) are
+// uniform run-time flags.
+template <bool Thermo, int D, class Real, class ExecSpace>
+struct MdpdPairEvaluator : PairEvaluatorTraits {
+  static constexpr MinimumImage image = MinimumImage::near;
+  using rows_view = PackedRows<Real, ExecSpace>;
+  using vector_view = typename Particles<D, Real, ExecSpace>::vector_view;
+  using rows_scatter = PairScatter<rows_view>;
+  using drag_scatter_type = PairScatter<vector_view>;
+  ConservativeForce<D, Real> cons;
+  DissipativeRandomForce<Real> thermo;
+  LennardJones<Real> wca;
+  Real rA2;
+  bool core, record;
+  rows_view xr, vr;
+  Kokkos::View<int*, ExecSpace> type;
+  Kokkos::View<std::uint32_t*, ExecSpace> tag;
+  std::uint64_t step;
+  rows_view fr;
+  vector_view drag;
+  typename rows_scatter::scatter_view fr_scatter;           // half lists only
+  typename drag_scatter_type::scatter_view drag_scatter;  // half lists with `record` only
+
+  KOKKOS_INLINE_FUNCTION Vec<D, Real> row_vector(const rows_view& rows, int i) const {
+    Vec<D, Real> r;
+    for (int d = 0; d < D; ++d) r[d] = rows(i, d);
+    return r;
+  }
+
+  struct FullRow {
+    Vec<D, Real> vi;
+    int ti;
+    Real rho_i;
+    std::uint32_t tag_i;
+    Vec<D, Real> fi, from_fluid;
+  };
+  struct HalfRow {
+    typename rows_scatter::access_type access;
+    Vec<D, Real> vi;
+    int ti;
+    Real rho_i;
+    std::uint32_t tag_i;
+    Vec<D, Real> fi;
+  };
+
+  KOKKOS_INLINE_FUNCTION FullRow begin(FullList, int i) const {
+    return {row_vector(vr, i), core || record ? type(i) : 0, xr(i, rho_column), tag(i), Vec<D, Real>::zero(),
+            Vec<D, Real>::zero()};
+  }
+  KOKKOS_INLINE_FUNCTION void operator()(FullList, FullRow& s, int, int j, const Vec<D, Real>& dr, Real r2,
+                                         double&) const {
+    const int tj = core || record ? type(j) : 0;
+    Real f_over_r;
+    if (mdpd_pair<Thermo>(cons, thermo, wca, rA2, core, dr, r2, s.ti, tj, s.rho_i, xr(j, rho_column),
+                          Thermo ? s.vi - row_vector(vr, j) : s.vi, step, s.tag_i, tag(j), f_over_r)) {
+      s.fi += f_over_r * dr;
+      if (record && tj == particle_type::fluid) s.from_fluid += f_over_r * dr;
+    }
+  }
+  KOKKOS_INLINE_FUNCTION void end(FullList, FullRow& s, int i, double&) const {
+    for (int d = 0; d < D; ++d) fr(i, d) = s.fi[d];
+    if (record)
+      for (int d = 0; d < D; ++d) drag(i, d) = is_solid(s.ti) ? s.from_fluid[d] : Real(0);
+  }
+
+  KOKKOS_INLINE_FUNCTION HalfRow begin(HalfList, int i) const {
+    return {fr_scatter.access(), row_vector(vr, i), core || record ? type(i) : 0, xr(i, rho_column), tag(i),
+            Vec<D, Real>::zero()};
+  }
+  KOKKOS_INLINE_FUNCTION void operator()(HalfList, HalfRow& s, int i, int j, const Vec<D, Real>& dr, Real r2,
+                                         double&) const {
+    const int tj = core || record ? type(j) : 0;
+    Real f_over_r;
+    if (mdpd_pair<Thermo>(cons, thermo, wca, rA2, core, dr, r2, s.ti, tj, s.rho_i, xr(j, rho_column),
+                          Thermo ? s.vi - row_vector(vr, j) : s.vi, step, s.tag_i, tag(j), f_over_r)) {
+      const Vec<D, Real> fij = f_over_r * dr;
+      s.fi += fij;
+      for (int d = 0; d < D; ++d) s.access(j, d) -= fij[d];
+      if (record) {
+        auto drag_access = drag_scatter.access();
+        if (is_solid(s.ti) && tj == particle_type::fluid)
+          for (int d = 0; d < D; ++d) drag_access(i, d) += fij[d];
+        if (is_solid(tj) && s.ti == particle_type::fluid)
+          for (int d = 0; d < D; ++d) drag_access(j, d) -= fij[d];
+      }
+    }
+  }
+  KOKKOS_INLINE_FUNCTION void end(HalfList, HalfRow& s, int i, double&) const {
+    for (int d = 0; d < D; ++d) s.access(i, d) += s.fi[d];
+  }
+};
 
 template <int D, class Real, class ExecSpace>
 class MdpdPairForce {
@@ -57,190 +183,51 @@ class MdpdPairForce {
   void compute(const rows_view& xr, const rows_view& vr, const type_view& type, const tag_view& tag,
                const NeighborList<D, Real, ExecSpace>& list, const Box<D, Real>& box, std::uint64_t step,
                bool has_core, const rows_view& fr, const vector_view& solid_drag = vector_view()) {
-    const bool thermo = thermostat_.active();
     const bool record = solid_drag.extent(0) > 0;
-    const Args a{xr, vr, type, tag, list.data(), box, step, fr, solid_drag};
     const bool full_list = list.kind() == NeighborListKind::full;
-    const int variant = (full_list ? 8 : 0) + (thermo ? 4 : 0) + (has_core ? 2 : 0) + (record ? 1 : 0);
-    switch (variant) {
-      case 0: return half<false, false, false>(a);
-      case 1: return half<false, false, true>(a);
-      case 2: return half<false, true, false>(a);
-      case 3: return half<false, true, true>(a);
-      case 4: return half<true, false, false>(a);
-      case 5: return half<true, false, true>(a);
-      case 6: return half<true, true, false>(a);
-      case 7: return half<true, true, true>(a);
-      case 8: return full<false, false, false>(a);
-      case 9: return full<false, false, true>(a);
-      case 10: return full<false, true, false>(a);
-      case 11: return full<false, true, true>(a);
-      case 12: return full<true, false, false>(a);
-      case 13: return full<true, false, true>(a);
-      case 14: return full<true, true, false>(a);
-      default: return full<true, true, true>(a);
+    if (thermostat_.active()) {
+      auto ev = evaluator<true>(xr, vr, type, tag, step, has_core, fr, solid_drag, record);
+      full_list ? full(ev, list, box) : half(ev, list, box);
+    } else {
+      auto ev = evaluator<false>(xr, vr, type, tag, step, has_core, fr, solid_drag, record);
+      full_list ? full(ev, list, box) : half(ev, list, box);
     }
   }
 
-  // Args, pair, row_vector, full and half are implementation details, public only because nvcc
-  // rejects a KOKKOS_LAMBDA in a private or protected member function, or one capturing a value of a
-  // private type.
-  struct Args {
-    rows_view xr, vr;
-    type_view type;
-    tag_view tag;
-    NeighborData<ExecSpace> nbr;
-    Box<D, Real> box;
-    std::uint64_t step;
-    rows_view fr;
-    vector_view drag;
-  };
-
-  // F_ij/r for the pair (i, j) at separation dr = x_i − x_j; false beyond every cut-off.
-  template <bool Thermo, bool Core>
-  KOKKOS_INLINE_FUNCTION static bool pair(const ConservativeForce<D, Real>& cons,
-                                          const DissipativeRandomForce<Real>& thermo,
-                                          const LennardJones<Real>& wca, Real rA2, const Vec<D, Real>& dr,
-                                          Real r2, int type_i, int type_j, Real rho_i, Real rho_j,
-                                          const Vec<D, Real>& vij, std::uint64_t step, std::uint32_t tag_i,
-                                          std::uint32_t tag_j, Real& force_over_r) {
-    Real fr = 0;
-    bool hit = false;
-    if (r2 < rA2) {
-      const Real r = kmath::sqrt(r2);
-      const Real inv_r = Real(1) / r;
-      Real f = cons.magnitude(r, r2, rho_i, rho_j);
-      if constexpr (Thermo) f += thermo.magnitude(r, dot(vij, dr) * inv_r, step, tag_i, tag_j);
-      fr = f * inv_r;
-      hit = true;
-    }
-    if constexpr (Core) {
-      const bool fluid_core = (type_i == particle_type::fluid && type_j == particle_type::solid_core) ||
-                              (type_j == particle_type::fluid && type_i == particle_type::solid_core);
-      Real fw, unused;
-      if (fluid_core && wca.evaluate(r2, type_i, type_j, fw, unused)) {
-        fr += fw;
-        hit = true;
-      }
-    }
-    force_over_r = fr;
-    return hit;
+  // evaluator, full and half are implementation details, public only because nvcc rejects a
+  // KOKKOS_LAMBDA in a private or protected member function.
+  template <bool Thermo>
+  MdpdPairEvaluator<Thermo, D, Real, ExecSpace> evaluator(const rows_view& xr, const rows_view& vr,
+                                                          const type_view& type, const tag_view& tag,
+                                                          std::uint64_t step, bool has_core, const rows_view& fr,
+                                                          const vector_view& drag, bool record) const {
+    return {{}, conservative_, thermostat_, wca_, rA2_, has_core, record, xr, vr, type, tag, step, fr, drag, {}, {}};
   }
 
-  KOKKOS_INLINE_FUNCTION static Vec<D, Real> row_vector(const rows_view& rows, int i) {
-    Vec<D, Real> r;
-    for (int d = 0; d < D; ++d) r[d] = rows(i, d);
-    return r;
+  template <class Evaluator>
+  void full(const Evaluator& ev, const NeighborList<D, Real, ExecSpace>& list, const Box<D, Real>& box) {
+    for_each_pair("mesoflow::mdpd::pair_force_full", FullList{}, list, box, ev.xr, ev);
   }
 
-  template <bool Thermo, bool Core, bool Record>
-  void full(const Args& a) const {
-    const auto cons = conservative_;
-    const auto thermo = thermostat_;
-    const auto wca = wca_;
-    const Real rA2 = rA2_;
-    Kokkos::parallel_for(
-        "mesoflow::mdpd::pair_force_full", Kokkos::RangePolicy<ExecSpace>(0, a.xr.extent(0)), KOKKOS_LAMBDA(int row) {
-          const int i = a.nbr.particle(row);
-          const Vec<D, Real> xi = row_vector(a.xr, i);
-          const Vec<D, Real> vi = row_vector(a.vr, i);
-          const int ti = Core || Record ? a.type(i) : 0;
-          const Real rho_i = a.xr(i, rho_column);
-          const std::uint32_t tag_i = a.tag(i);
-          Vec<D, Real> fi = Vec<D, Real>::zero(), from_fluid = Vec<D, Real>::zero();
-          const int nn = a.nbr.num_neighbors(row);
-          for (int k = 0; k < nn; ++k) {
-            const int j = a.nbr.neighbor(row, k);
-            Vec<D, Real> dr = xi - row_vector(a.xr, j);
-            a.box.minimum_image_near(dr);
-            const Real r2 = norm2(dr);
-            const int tj = Core || Record ? a.type(j) : 0;
-            Real f_over_r;
-            if (pair<Thermo, Core>(cons, thermo, wca, rA2, dr, r2, ti, tj, rho_i, a.xr(j, rho_column),
-                                   Thermo ? vi - row_vector(a.vr, j) : vi, a.step, tag_i, a.tag(j), f_over_r)) {
-              fi += f_over_r * dr;
-              if constexpr (Record)
-                if (tj == particle_type::fluid) from_fluid += f_over_r * dr;
-            }
-          }
-          for (int d = 0; d < D; ++d) a.fr(i, d) = fi[d];
-          if constexpr (Record)
-            for (int d = 0; d < D; ++d) a.drag(i, d) = is_solid(ti) ? from_fluid[d] : Real(0);
-        });
-  }
-
-  template <bool Thermo, bool Core, bool Record>
-  void half(const Args& a) {
-    if (scatter_target_ != a.fr.data()) {
-      scatter_ = Kokkos::Experimental::create_scatter_view(a.fr);
-      scatter_target_ = a.fr.data();
-    }
-    const auto fr = a.fr;
+  template <class Evaluator>
+  void half(Evaluator ev, const NeighborList<D, Real, ExecSpace>& list, const Box<D, Real>& box) {
+    const auto fr = ev.fr;
     Kokkos::parallel_for(
         "mesoflow::mdpd::zero_pair_forces", Kokkos::RangePolicy<ExecSpace>(0, fr.extent(0)), KOKKOS_LAMBDA(int i) {
           for (int d = 0; d < packed_width; ++d) fr(i, d) = Real(0);
         });
-    scatter_.reset_except(fr);
-    auto scatter = scatter_;
-    if constexpr (Record) {
-      if (drag_target_ != a.drag.data()) {
-        drag_scatter_ = Kokkos::Experimental::create_scatter_view(a.drag);
-        drag_target_ = a.drag.data();
-      }
-      const auto drag = a.drag;
+    ev.fr_scatter = scatter_.prepare(fr);
+    if (ev.record) {
+      const auto drag = ev.drag;
       Kokkos::parallel_for(
           "mesoflow::mdpd::zero_solid_drag", Kokkos::RangePolicy<ExecSpace>(0, drag.extent(0)), KOKKOS_LAMBDA(int i) {
             for (int d = 0; d < D; ++d) drag(i, d) = Real(0);
           });
-      drag_scatter_.reset_except(drag);
+      ev.drag_scatter = drag_scatter_.prepare(drag);
     }
-    auto drag_scatter = drag_scatter_;
-    const auto cons = conservative_;
-    const auto thermo = thermostat_;
-    const auto wca = wca_;
-    const Real rA2 = rA2_;
-    Kokkos::parallel_for(
-        "mesoflow::mdpd::pair_force_half", Kokkos::RangePolicy<ExecSpace>(0, a.xr.extent(0)), KOKKOS_LAMBDA(int row) {
-          auto access = scatter.access();
-          const int i = a.nbr.particle(row);
-          const Vec<D, Real> xi = row_vector(a.xr, i);
-          const Vec<D, Real> vi = row_vector(a.vr, i);
-          const int ti = Core || Record ? a.type(i) : 0;
-          const Real rho_i = a.xr(i, rho_column);
-          const std::uint32_t tag_i = a.tag(i);
-          Vec<D, Real> fi = Vec<D, Real>::zero();
-          const int nn = a.nbr.num_neighbors(row);
-          for (int k = 0; k < nn; ++k) {
-            const int j = a.nbr.neighbor(row, k);
-            Vec<D, Real> dr = xi - row_vector(a.xr, j);
-            a.box.minimum_image_near(dr);
-            const Real r2 = norm2(dr);
-            const int tj = Core || Record ? a.type(j) : 0;
-            Real f_over_r;
-            if (pair<Thermo, Core>(cons, thermo, wca, rA2, dr, r2, ti, tj, rho_i, a.xr(j, rho_column),
-                                   Thermo ? vi - row_vector(a.vr, j) : vi, a.step, tag_i, a.tag(j), f_over_r)) {
-              const Vec<D, Real> fij = f_over_r * dr;
-              fi += fij;
-              for (int d = 0; d < D; ++d) access(j, d) -= fij[d];
-              // `if`, not `if constexpr`: nvcc rejects a KOKKOS_LAMBDA whose first use of a captured
-              // variable is inside `if constexpr` (the condition is a compile-time constant all the same).
-              if (Record) {
-                auto drag_access = drag_scatter.access();
-                if (is_solid(ti) && tj == particle_type::fluid)
-                  for (int d = 0; d < D; ++d) drag_access(i, d) += fij[d];
-                if (is_solid(tj) && ti == particle_type::fluid)
-                  for (int d = 0; d < D; ++d) drag_access(j, d) -= fij[d];
-              }
-            }
-          }
-          for (int d = 0; d < D; ++d) access(i, d) += fi[d];
-        });
-    auto fr_target = a.fr;
-    Kokkos::Experimental::contribute(fr_target, scatter_);
-    if constexpr (Record) {
-      auto drag_target = a.drag;
-      Kokkos::Experimental::contribute(drag_target, drag_scatter_);
-    }
+    for_each_pair("mesoflow::mdpd::pair_force_half", HalfList{}, list, box, ev.xr, ev);
+    scatter_.contribute(fr);
+    if (ev.record) drag_scatter_.contribute(ev.drag);
   }
 
  private:
@@ -248,10 +235,8 @@ class MdpdPairForce {
   DissipativeRandomForce<Real> thermostat_;
   LennardJones<Real> wca_;
   Real rA2_;
-  decltype(Kokkos::Experimental::create_scatter_view(rows_view())) scatter_;
-  Kokkos::Experimental::ScatterView<Real* [D], Kokkos::LayoutLeft, ExecSpace> drag_scatter_;
-  const Real* scatter_target_ = nullptr;
-  const Real* drag_target_ = nullptr;
+  PairScatter<rows_view> scatter_;
+  PairScatter<vector_view> drag_scatter_;
 };
 
 }  // namespace mesoflow::mdpd

@@ -12,13 +12,16 @@
 // is also pairwise exactly opposite (Δv and r_mn both change sign) and dissipates
 // −(μ/2) Σ_contacts |Δv_t|²; it leaves head-on collisions undamped.
 //
-// One pass over a full neighbor list, each particle summing its own contacts (deterministic, no
-// atomics; dynamically scheduled, as pair_force.hpp's accumulate_forces); v is the integrator's velocity for velocity-dependent forces (velocity_verlet.hpp).
+// An evaluator of the generic pair loop (kernels/common/pair_force.hpp) over a full neighbor list,
+// each particle summing its own contacts (deterministic, no atomics; dynamically scheduled, as
+// PairForce::accumulate_forces); v is the integrator's velocity for velocity-dependent forces
+// (velocity_verlet.hpp).
 #pragma once
 
 #include "kernels/common/box.hpp"
 #include "kernels/common/kokkos_compat.hpp"
 #include "kernels/common/neighbor_list.hpp"
+#include "kernels/common/pair_force.hpp"
 #include "kernels/common/particles.hpp"
 #include "kernels/sp/pair_repulsion.hpp"
 
@@ -40,6 +43,37 @@ inline FrictionComponent parse_friction_component(const std::string& name) {
 
 inline const char* to_string(FrictionComponent c) { return c == FrictionComponent::full ? "full" : "tangential"; }
 
+// Eq. 6 as an evaluator of the generic pair loop (full lists: each particle sums its own contacts).
+template <int D, class Real, class ExecSpace>
+struct KineticFrictionEvaluator : PairEvaluatorTraits {
+  using vector_view = typename Particles<D, Real, ExecSpace>::vector_view;
+  Real mu;
+  SoftSphereRepulsion<Real> contacts;
+  vector_view v, f;
+  Kokkos::View<int*, ExecSpace> type;
+  bool tangential;
+
+  struct Row {
+    Vec<D, Real> vi;
+    int ti;
+    Vec<D, Real> fi;
+  };
+  KOKKOS_INLINE_FUNCTION Row begin(FullList, int i) const {
+    return {Vec<D, Real>::load(v, i), type(i), Vec<D, Real>::zero()};
+  }
+  KOKKOS_INLINE_FUNCTION void operator()(FullList, Row& s, int, int j, const Vec<D, Real>& dr, Real r2,
+                                         double&) const {
+    const Real sigma = contacts.contact[s.ti][type(j)];
+    if (!(r2 < sigma * sigma)) return;
+    Vec<D, Real> dv = s.vi - Vec<D, Real>::load(v, j);
+    if (tangential && r2 > Real(0)) dv -= (dot(dv, dr) / r2) * dr;
+    s.fi += (-mu) * dv;
+  }
+  KOKKOS_INLINE_FUNCTION void end(FullList, Row& s, int i, double&) const {
+    for (int d = 0; d < D; ++d) f(i, d) += s.fi[d];
+  }
+};
+
 template <int D, class Real, class ExecSpace>
 void accumulate_kinetic_friction(Real mu, const SoftSphereRepulsion<Real>& contacts,
                                  const Particles<D, Real, ExecSpace>& p,
@@ -51,34 +85,9 @@ void accumulate_kinetic_friction(Real mu, const SoftSphereRepulsion<Real>& conta
   if (list.kind() != NeighborListKind::full)
     throw std::invalid_argument("kinetic_friction: needs a full neighbor list");
   if (mu == Real(0)) return;  // a term whose coefficient is zero costs nothing
-  const auto x = p.x;
-  const auto v = velocity;
-  const auto f = p.f;
-  const auto type = p.type;
-  const auto nbr = list.data();
-  const bool tangential = component == FrictionComponent::tangential;
-  Kokkos::parallel_for(
-      "mesoflow::sp::kinetic_friction", Kokkos::RangePolicy<ExecSpace, Kokkos::Schedule<Kokkos::Dynamic>>(0, p.size()).set_chunk_size(64),
-      KOKKOS_LAMBDA(int row) {
-        const int i = nbr.particle(row);
-        const Vec<D, Real> xi = Vec<D, Real>::load(x, i);
-        const Vec<D, Real> vi = Vec<D, Real>::load(v, i);
-        const int ti = type(i);
-        Vec<D, Real> fi = Vec<D, Real>::zero();
-        const int nn = nbr.num_neighbors(row);
-        for (int k = 0; k < nn; ++k) {
-          const int j = nbr.neighbor(row, k);
-          Vec<D, Real> dr = xi - Vec<D, Real>::load(x, j);
-          box.minimum_image(dr);
-          const Real s = contacts.contact[ti][type(j)];
-          const Real r2 = norm2(dr);
-          if (!(r2 < s * s)) continue;
-          Vec<D, Real> dv = vi - Vec<D, Real>::load(v, j);
-          if (tangential && r2 > Real(0)) dv -= (dot(dv, dr) / r2) * dr;
-          fi += (-mu) * dv;
-        }
-        for (int d = 0; d < D; ++d) f(i, d) += fi[d];
-      });
+  const KineticFrictionEvaluator<D, Real, ExecSpace> ev{
+      {}, mu, contacts, velocity, p.f, p.type, component == FrictionComponent::tangential};
+  for_each_pair<Kokkos::Dynamic>("mesoflow::sp::kinetic_friction", FullList{}, list, box, p.x, ev);
 }
 
 }  // namespace mesoflow::sp

@@ -1,4 +1,5 @@
-// sph_pair_interactions.hpp — the one SPH pair loop: the density rate of eq. (4)
+// sph_pair_interactions.hpp — the SPH pair interactions, one evaluator of the generic pair loop
+// (kernels/common/pair_force.hpp): the density rate of eq. (4)
 // (continuity_density.hpp) and the pressure + viscous force of eq. (5) (pressure_viscous_force.hpp),
 // plus the body force, in a single pass over a full neighbor list. Both sums need the same pairs at
 // the same positions and extrapolated velocities (sph_integrator.hpp), so fusing them reads each
@@ -31,6 +32,7 @@
 #include "no_slip_walls.hpp"
 #include "kernels/common/box.hpp"
 #include "kernels/common/neighbor_list.hpp"
+#include "kernels/common/pair_force.hpp"
 #include "kernels/common/particles.hpp"
 #include "particle_types.hpp"
 #include "pressure_viscous_force.hpp"
@@ -113,6 +115,130 @@ void pack_sph_rows(const Particles<D, Real, ExecSpace>& p,
       });
 }
 
+// Eqs. (4)–(5) as an evaluator of the generic pair loop: the loop screens chunks of entries at the
+// kernel support and skips the minimum image in ImageFreeRegion rows. Compile-time switches: the
+// list tag and Morris (wall geometry present).
+//
+// Full rows sum ρ̇_i and f_i/m_i in double and write f_i (with the body force) and ρ̇_i. Half rows:
+// per pair T_ij = (pressure + viscous term of eq. 5)/m_j, antisymmetric, and the symmetric rate
+// factor of eq. (4); i gains m_j T_ij and m_j R_ij, j loses m_i T_ij and gains m_i R_ij, through
+// `acc` (Σ_j f_ij/m_i in D columns, ρ̇_i in column D), unpacked after the loop.
+template <bool Morris, int D, class Real, class ExecSpace, class Kernel>
+struct SphPairEvaluator : PairEvaluatorTraits {
+  static constexpr MinimumImage image = MinimumImage::near;
+  static constexpr PairScreen screen = PairScreen::chunked;
+  static constexpr bool image_free_rows = true;
+  using C = SphColumn<D>;
+  using vector_view = typename Particles<D, Real, ExecSpace>::vector_view;
+  using acc_view = Kokkos::View<double* [D + 1], ExecSpace>;
+  using acc_scatter = PairScatter<acc_view>;
+  Kernel kernel;
+  BodyForce<D, Real> body;
+  Real cutoff2;  // the kernel support²
+  ImageFreeRegion<D, Real, ExecSpace> region;
+  SphRows<D, Real, ExecSpace> rows;
+  Kokkos::View<int*, ExecSpace> type;
+  WallGeometry<D, Real, ExecSpace> walls;
+  MorrisWallFactor<Real> morris;
+  vector_view f;                              // full lists
+  Kokkos::View<Real*, ExecSpace> drho;        // full lists
+  typename acc_scatter::scatter_view scatter;  // half lists
+
+  KOKKOS_INLINE_FUNCTION bool image_free(const Vec<D, Real>& xi) const { return region.contains(xi); }
+
+  // Morris' β for the viscous term of a fluid–wall pair (i, j), dr = x_i − x_j: the wall particle's
+  // normal and depth give the fluid particle's distance from the wall surface (no_slip_walls.hpp).
+  KOKKOS_INLINE_FUNCTION Real wall_factor(bool wall_i, int i, int j, const Vec<D, Real>& dr) const {
+    const int w = wall_i ? i : j;
+    Real offset = 0;  // (x_fluid − x_wall)·n_wall
+    for (int d = 0; d < D; ++d) offset += dr[d] * walls(w, d);
+    return morris(wall_i ? -offset : offset, walls(w, int(wall_depth_column<D>)));  // a copy: not odr-used on the device
+  }
+
+  struct FullRow {
+    Vec<D, Real> ui;
+    Real inv_rho_i, p_rho2_i, mu_i;
+    int ti;
+    bool wall_i;
+    double rate;
+    double fi[D];
+  };
+  struct HalfRow {
+    typename acc_scatter::access_type access;
+    Vec<D, Real> ui;
+    Real m_i, inv_rho_i, p_rho2_i, mu_i;
+    bool wall_i;
+    double rate;
+    double fi[D];
+  };
+
+  KOKKOS_INLINE_FUNCTION Vec<D, Real> velocity(int i) const {
+    Vec<D, Real> u;
+    for (int d = 0; d < D; ++d) u[d] = rows(i, C::u + d);
+    return u;
+  }
+
+  KOKKOS_INLINE_FUNCTION FullRow begin(FullList, int i) const {
+    const int ti = type(i);
+    FullRow s{velocity(i), rows(i, C::inv_rho), rows(i, C::p_over_rho2), rows(i, C::mu), ti, is_fixed(ti), 0.0, {}};
+    for (int d = 0; d < D; ++d) s.fi[d] = 0.0;
+    return s;
+  }
+  KOKKOS_INLINE_FUNCTION void operator()(FullList, FullRow& s, int i, int j, const Vec<D, Real>& dr, Real r2,
+                                         double&) const {
+    const Real dW_over_r = kernel.derivative_over_r(kmath::sqrt(r2));
+    Vec<D, Real> uij;
+    for (int d = 0; d < D; ++d) uij[d] = s.ui[d] - rows(j, C::u + d);
+    const Real m_j = rows(j, C::mass);
+    s.rate += double(ContinuityDensity<D, Real>::rate(m_j, dW_over_r, dr, uij));
+    Vec<D, Real> vij = uij;
+    if (Morris) {
+      if (s.wall_i != is_fixed(type(j))) vij *= wall_factor(s.wall_i, i, j, dr);
+    }
+    const Vec<D, Real> fij =
+        PressureViscousForce<D, Real>::pair(m_j, s.p_rho2_i, rows(j, C::p_over_rho2), s.mu_i, rows(j, C::mu),
+                                            s.inv_rho_i, rows(j, C::inv_rho), dW_over_r, dr, vij);
+    for (int d = 0; d < D; ++d) s.fi[d] += double(fij[d]);
+  }
+  KOKKOS_INLINE_FUNCTION void end(FullList, FullRow& s, int i, double&) const {
+    const double m_i = double(rows(i, C::mass));
+    for (int d = 0; d < D; ++d) f(i, d) = Real(m_i * (s.fi[d] + double(body.component(s.ti, d))));
+    drho(i) = Real(s.rate);
+  }
+
+  KOKKOS_INLINE_FUNCTION HalfRow begin(HalfList, int i) const {
+    HalfRow s{scatter.access(), velocity(i), rows(i, C::mass), rows(i, C::inv_rho), rows(i, C::p_over_rho2),
+              rows(i, C::mu), Morris ? is_fixed(type(i)) : false, 0.0, {}};
+    for (int d = 0; d < D; ++d) s.fi[d] = 0.0;
+    return s;
+  }
+  KOKKOS_INLINE_FUNCTION void operator()(HalfList, HalfRow& s, int i, int j, const Vec<D, Real>& dr, Real r2,
+                                         double&) const {
+    const Real dW_over_r = kernel.derivative_over_r(kmath::sqrt(r2));
+    Vec<D, Real> uij;
+    for (int d = 0; d < D; ++d) uij[d] = s.ui[d] - rows(j, C::u + d);
+    const Real m_j = rows(j, C::mass);
+    const Real r_ij = ContinuityDensity<D, Real>::rate(Real(1), dW_over_r, dr, uij);
+    s.rate += double(m_j * r_ij);
+    Vec<D, Real> vij = uij;
+    if (Morris) {
+      if (s.wall_i != is_fixed(type(j))) vij *= wall_factor(s.wall_i, i, j, dr);
+    }
+    const Vec<D, Real> t_ij =
+        PressureViscousForce<D, Real>::pair(Real(1), s.p_rho2_i, rows(j, C::p_over_rho2), s.mu_i, rows(j, C::mu),
+                                            s.inv_rho_i, rows(j, C::inv_rho), dW_over_r, dr, vij);
+    for (int d = 0; d < D; ++d) {
+      s.fi[d] += double(m_j * t_ij[d]);
+      s.access(j, d) -= double(s.m_i * t_ij[d]);
+    }
+    s.access(j, D) += double(s.m_i * r_ij);
+  }
+  KOKKOS_INLINE_FUNCTION void end(HalfList, HalfRow& s, int i, double&) const {
+    for (int d = 0; d < D; ++d) s.access(i, d) += s.fi[d];
+    s.access(i, D) += s.rate;
+  }
+};
+
 template <int D, class Real, class ExecSpace, class Kernel>
 class SphPairInteractions {
  public:
@@ -182,36 +308,13 @@ class SphPairInteractions {
     return inner;
   }
 
-  // run, run_half, screen and wall_factor are implementation details, public only because nvcc
-  // rejects a KOKKOS_LAMBDA in a private or protected member function.
-
-  // List entries screened at a time (the file comment): a half list of skin 10% holds about 44 per
-  // row. An enumerator, not a static constexpr int: nvcc has no device copy of a host variable.
-  enum : int { chunk = 32 };
-
-  // The entries k ∈ [k0, k1) (k1 − k0 ≤ chunk) of `row` with |x_i − x_j| < support: j_in, dr_in
-  // (x_i − x_j, minimum image) and r2_in (|dr|²) receive them; returns how many there are. Without
-  // Image, x_i lies in the ImageFreeRegion and dr is taken as it is (the same bits: the minimum image
-  // would not change it).
-  template <bool Image>
-  KOKKOS_INLINE_FUNCTION static int screen(const SphRows<D, Real, ExecSpace>& rows,
-                                           const NeighborData<ExecSpace>& nbr, const Box<D, Real>& box, int row,
-                                           int k0, int k1, const Vec<D, Real>& xi, Real support2, int* j_in,
-                                           Vec<D, Real>* dr_in, Real* r2_in) {
-    using C = SphColumn<D>;
-    int kept = 0;
-    for (int k = k0; k < k1; ++k) {
-      const int j = nbr.neighbor(row, k);
-      Vec<D, Real> dr;
-      for (int d = 0; d < D; ++d) dr[d] = xi[d] - rows(j, C::x + d);
-      if (Image) box.minimum_image_near(dr);
-      const Real r2 = norm2(dr);
-      j_in[kept] = j;
-      dr_in[kept] = dr;
-      r2_in[kept] = r2;
-      kept += r2 < support2;
-    }
-    return kept;
+  // run and run_half are implementation details, public only because nvcc rejects a KOKKOS_LAMBDA
+  // in a private or protected member function.
+  template <bool Morris>
+  SphPairEvaluator<Morris, D, Real, ExecSpace, Kernel> evaluator(
+      const SphRows<D, Real, ExecSpace>& rows, const int_view& type, const ImageFreeRegion<D, Real, ExecSpace>& region,
+      const WallGeometry<D, Real, ExecSpace>& walls, const MorrisWallFactor<Real>& morris) const {
+    return {{}, kernel_, body_, kernel_.support2, region, rows, type, walls, morris, {}, {}, {}};
   }
 
   template <bool Morris>
@@ -219,141 +322,29 @@ class SphPairInteractions {
            const Box<D, Real>& box, const ImageFreeRegion<D, Real, ExecSpace>& region, const vector_view& f,
            const scalar_view& drho, const WallGeometry<D, Real, ExecSpace>& walls,
            const MorrisWallFactor<Real>& morris) const {
-    using C = SphColumn<D>;
-    const auto kernel = kernel_;
-    const auto body = body_;
-    const auto nbr = list.data();
-    const Real support2 = kernel_.support2;
-    Kokkos::parallel_for(
-        "mesoflow::sph::pair_interactions", Kokkos::RangePolicy<ExecSpace>(0, rows.extent(0)),
-        KOKKOS_LAMBDA(int row) {
-          const int i = nbr.particle(row);
-          Vec<D, Real> xi, ui;
-          for (int d = 0; d < D; ++d) {
-            xi[d] = rows(i, C::x + d);
-            ui[d] = rows(i, C::u + d);
-          }
-          const Real inv_rho_i = rows(i, C::inv_rho);
-          const Real p_rho2_i = rows(i, C::p_over_rho2);
-          const Real mu_i = rows(i, C::mu);
-          const int ti = type(i);
-          [[maybe_unused]] const bool wall_i = is_fixed(ti);
-          double rate = 0;
-          double fi[D] = {};
-          int j_in[chunk];
-          Vec<D, Real> dr_in[chunk];
-          Real r2_in[chunk];
-          const int nn = nbr.num_neighbors(row);
-          const bool image_free = region.contains(xi);
-          for (int k0 = 0; k0 < nn; k0 += chunk) {
-            const int k1 = nn - k0 < chunk ? nn : k0 + chunk;
-            const int kept = image_free ? screen<false>(rows, nbr, box, row, k0, k1, xi, support2, j_in, dr_in, r2_in)
-                                        : screen<true>(rows, nbr, box, row, k0, k1, xi, support2, j_in, dr_in, r2_in);
-            for (int q = 0; q < kept; ++q) {
-              const int j = j_in[q];
-              const Vec<D, Real> dr = dr_in[q];
-              const Real dW_over_r = kernel.derivative_over_r(kmath::sqrt(r2_in[q]));
-              Vec<D, Real> uij;
-              for (int d = 0; d < D; ++d) uij[d] = ui[d] - rows(j, C::u + d);
-              const Real m_j = rows(j, C::mass);
-              rate += double(ContinuityDensity<D, Real>::rate(m_j, dW_over_r, dr, uij));
-              Vec<D, Real> vij = uij;
-              // `if`, not `if constexpr`: nvcc rejects a KOKKOS_LAMBDA whose first use of a captured
-              // variable is inside `if constexpr` (the condition is a compile-time constant all the same).
-              if (Morris) {
-                if (wall_i != is_fixed(type(j))) vij *= wall_factor(wall_i, i, j, dr, walls, morris);
-              }
-              const Vec<D, Real> fij = PressureViscousForce<D, Real>::pair(
-                  m_j, p_rho2_i, rows(j, C::p_over_rho2), mu_i, rows(j, C::mu), inv_rho_i, rows(j, C::inv_rho),
-                  dW_over_r, dr, vij);
-              for (int d = 0; d < D; ++d) fi[d] += double(fij[d]);
-            }
-          }
-          const double m_i = double(rows(i, C::mass));
-          for (int d = 0; d < D; ++d) f(i, d) = Real(m_i * (fi[d] + double(body.component(ti, d))));
-          drho(i) = Real(rate);
-        });
+    auto ev = evaluator<Morris>(rows, type, region, walls, morris);
+    ev.f = f;
+    ev.drho = drho;
+    for_each_pair("mesoflow::sph::pair_interactions", FullList{}, list, box, rows, ev);
   }
 
-  // Half list: per pair T_ij = (pressure + viscous term of eq. 5)/m_j, antisymmetric, and the
-  // symmetric rate factor of eq. (4); i gains m_j T_ij and m_j R_ij, j loses m_i T_ij and gains
-  // m_i R_ij. acc(i) holds Σ_j f_ij/m_i (D columns) and ρ̇_i (column D).
   template <bool Morris>
   void run_half(const SphRows<D, Real, ExecSpace>& rows, const int_view& type,
                 const NeighborList<D, Real, ExecSpace>& list, const Box<D, Real>& box,
                 const ImageFreeRegion<D, Real, ExecSpace>& region, const vector_view& f, const scalar_view& drho,
-                const WallGeometry<D, Real, ExecSpace>& walls,
-                const MorrisWallFactor<Real>& morris) {
+                const WallGeometry<D, Real, ExecSpace>& walls, const MorrisWallFactor<Real>& morris) {
     using C = SphColumn<D>;
     const int n = int(rows.extent(0));
-    if (int(acc_.extent(0)) != n) {
-      acc_ = Kokkos::View<double* [D + 1], ExecSpace>("mesoflow::sph::pair_sums", n);
-      scatter_ = Kokkos::Experimental::create_scatter_view(acc_);
-    }
+    if (int(acc_.extent(0)) != n) acc_ = Kokkos::View<double* [D + 1], ExecSpace>("mesoflow::sph::pair_sums", n);
     const auto acc = acc_;
     Kokkos::parallel_for(
         "mesoflow::sph::zero_pair_sums", Kokkos::RangePolicy<ExecSpace>(0, n), KOKKOS_LAMBDA(int i) {
           for (int d = 0; d <= D; ++d) acc(i, d) = 0.0;
         });
-    scatter_.reset_except(acc_);
-    auto scatter = scatter_;
-    const auto kernel = kernel_;
-    const auto nbr = list.data();
-    const Real support2 = kernel_.support2;
-    Kokkos::parallel_for(
-        "mesoflow::sph::pair_interactions_half", Kokkos::RangePolicy<ExecSpace>(0, n), KOKKOS_LAMBDA(int row) {
-          auto access = scatter.access();
-          const int i = nbr.particle(row);
-          Vec<D, Real> xi, ui;
-          for (int d = 0; d < D; ++d) {
-            xi[d] = rows(i, C::x + d);
-            ui[d] = rows(i, C::u + d);
-          }
-          const Real m_i = rows(i, C::mass);
-          const Real inv_rho_i = rows(i, C::inv_rho);
-          const Real p_rho2_i = rows(i, C::p_over_rho2);
-          const Real mu_i = rows(i, C::mu);
-          [[maybe_unused]] const bool wall_i = Morris ? is_fixed(type(i)) : false;
-          double rate = 0;
-          double fi[D] = {};
-          int j_in[chunk];
-          Vec<D, Real> dr_in[chunk];
-          Real r2_in[chunk];
-          const int nn = nbr.num_neighbors(row);
-          const bool image_free = region.contains(xi);
-          for (int k0 = 0; k0 < nn; k0 += chunk) {
-            const int k1 = nn - k0 < chunk ? nn : k0 + chunk;
-            const int kept = image_free ? screen<false>(rows, nbr, box, row, k0, k1, xi, support2, j_in, dr_in, r2_in)
-                                        : screen<true>(rows, nbr, box, row, k0, k1, xi, support2, j_in, dr_in, r2_in);
-            for (int q = 0; q < kept; ++q) {
-              const int j = j_in[q];
-              const Vec<D, Real> dr = dr_in[q];
-              const Real dW_over_r = kernel.derivative_over_r(kmath::sqrt(r2_in[q]));
-              Vec<D, Real> uij;
-              for (int d = 0; d < D; ++d) uij[d] = ui[d] - rows(j, C::u + d);
-              const Real m_j = rows(j, C::mass);
-              const Real r_ij = ContinuityDensity<D, Real>::rate(Real(1), dW_over_r, dr, uij);
-              rate += double(m_j * r_ij);
-              Vec<D, Real> vij = uij;
-              // `if`, not `if constexpr`: nvcc rejects a KOKKOS_LAMBDA whose first use of a captured
-              // variable is inside `if constexpr` (the condition is a compile-time constant all the same).
-              if (Morris) {
-                if (wall_i != is_fixed(type(j))) vij *= wall_factor(wall_i, i, j, dr, walls, morris);
-              }
-              const Vec<D, Real> t_ij = PressureViscousForce<D, Real>::pair(
-                  Real(1), p_rho2_i, rows(j, C::p_over_rho2), mu_i, rows(j, C::mu), inv_rho_i, rows(j, C::inv_rho),
-                  dW_over_r, dr, vij);
-              for (int d = 0; d < D; ++d) {
-                fi[d] += double(m_j * t_ij[d]);
-                access(j, d) -= double(m_i * t_ij[d]);
-              }
-              access(j, D) += double(m_i * r_ij);
-            }
-          }
-          for (int d = 0; d < D; ++d) access(i, d) += fi[d];
-          access(i, D) += rate;
-        });
-    Kokkos::Experimental::contribute(acc_, scatter_);
+    auto ev = evaluator<Morris>(rows, type, region, walls, morris);
+    ev.scatter = scatter_.prepare(acc_);
+    for_each_pair("mesoflow::sph::pair_interactions_half", HalfList{}, list, box, rows, ev);
+    scatter_.contribute(acc_);
     const auto body = body_;
     const auto m = Kokkos::subview(rows, Kokkos::ALL, int(C::mass));
     Kokkos::parallel_for(
@@ -364,23 +355,12 @@ class SphPairInteractions {
         });
   }
 
-  // Morris' β for the viscous term of a fluid–wall pair (i, j), dr = x_i − x_j: the wall particle's
-  // normal and depth give the fluid particle's distance from the wall surface (no_slip_walls.hpp).
-  KOKKOS_INLINE_FUNCTION static Real wall_factor(bool wall_i, int i, int j, const Vec<D, Real>& dr,
-                                                 const WallGeometry<D, Real, ExecSpace>& walls,
-                                                 const MorrisWallFactor<Real>& morris) {
-    const int w = wall_i ? i : j;
-    Real offset = 0;  // (x_fluid − x_wall)·n_wall
-    for (int d = 0; d < D; ++d) offset += dr[d] * walls(w, d);
-    return morris(wall_i ? -offset : offset, walls(w, int(wall_depth_column<D>)));  // a copy: not odr-used on the device
-  }
-
  private:
   Kernel kernel_;
   BodyForce<D, Real> body_;
   Kokkos::View<double* [D + 1], ExecSpace> acc_;
   Kokkos::View<Real, ExecSpace> overhang_;  // largest distance of a particle outside the box (ImageFreeRegion)
-  decltype(Kokkos::Experimental::create_scatter_view(Kokkos::View<double* [D + 1], ExecSpace>())) scatter_;
+  PairScatter<Kokkos::View<double* [D + 1], ExecSpace>> scatter_;
 };
 
 }  // namespace mesoflow::sph

@@ -1,12 +1,16 @@
 // The generic pair loop with the Lennard-Jones evaluator: forces are minus the energy gradient
 // (central finite differences), full and half lists agree, Newton's third law holds, and the loop
-// adds to forces already present.
+// adds to forces already present. The loop's evaluator contract itself (issue 24, item 3): a toy
+// evaluator with a vector and a scalar per particle against an O(N²) sum, for every screen and
+// image convention, full and half lists, the reduction, inner rows and the tag check.
 #include "kernels/common/lennard_jones.hpp"
 #include "kernels/common/pair_force.hpp"
 #include "test_types.hpp"
 
 #include <cmath>
 #include <random>
+#include <utility>
+#include <vector>
 
 namespace mesoflow {
 namespace {
@@ -181,6 +185,190 @@ TEST(LennardJones, WcaIsRepulsiveAndVanishesSmoothlyAtItsCutoff) {
   EXPECT_DOUBLE_EQ(e, 1.0);  // U(σ) = 0 + ε shift
   EXPECT_DOUBLE_EQ(f, 24.0);
   EXPECT_THROW(LennardJones<double>(1.0, 0.0, 2.5), std::invalid_argument);
+}
+
+// A toy evaluator: per particle a[0..D) = Σ_j w_ij (x_i − x_j) and a[D] = Σ_j w_ij, with
+// w_ij = 1 − r²/rc² inside rc; the reduction slot receives Σ w over the pairs the loop visits.
+template <int D, class Real, class Exec, PairScreen Screen, MinimumImage Image>
+struct ToyEvaluator : PairEvaluatorTraits {
+  static constexpr PairScreen screen = Screen;
+  static constexpr MinimumImage image = Image;
+  using out_view = Kokkos::View<double* [D + 1], Exec>;
+  Real cutoff2;
+  out_view out;
+  typename PairScatter<out_view>::scatter_view scatter;
+
+  struct FullRow {
+    double a[D + 1];
+  };
+  struct HalfRow {
+    typename PairScatter<out_view>::access_type access;
+    double a[D + 1];
+  };
+  KOKKOS_INLINE_FUNCTION static double weight(Real r2, Real rc2) { return 1.0 - double(r2) / double(rc2); }
+
+  KOKKOS_INLINE_FUNCTION FullRow begin(FullList, int) const {
+    FullRow s;
+    for (int c = 0; c <= D; ++c) s.a[c] = 0;
+    return s;
+  }
+  KOKKOS_INLINE_FUNCTION void operator()(FullList, FullRow& s, int, int, const Vec<D, Real>& dr, Real r2,
+                                         double& sum) const {
+    if (Screen == PairScreen::evaluator && !(r2 < cutoff2)) return;
+    const double w = weight(r2, cutoff2);
+    for (int d = 0; d < D; ++d) s.a[d] += w * double(dr[d]);
+    s.a[D] += w;
+    sum += w;
+  }
+  KOKKOS_INLINE_FUNCTION void end(FullList, FullRow& s, int i, double&) const {
+    for (int c = 0; c <= D; ++c) out(i, c) = s.a[c];
+  }
+
+  KOKKOS_INLINE_FUNCTION HalfRow begin(HalfList, int) const {
+    HalfRow s{scatter.access(), {}};
+    for (int c = 0; c <= D; ++c) s.a[c] = 0;
+    return s;
+  }
+  KOKKOS_INLINE_FUNCTION void operator()(HalfList, HalfRow& s, int, int j, const Vec<D, Real>& dr, Real r2,
+                                         double& sum) const {
+    if (Screen == PairScreen::evaluator && !(r2 < cutoff2)) return;
+    const double w = weight(r2, cutoff2);
+    for (int d = 0; d < D; ++d) {
+      s.a[d] += w * double(dr[d]);
+      s.access(j, d) -= w * double(dr[d]);
+    }
+    s.a[D] += w;
+    s.access(j, D) += w;
+    sum += w;
+  }
+  KOKKOS_INLINE_FUNCTION void end(HalfList, HalfRow& s, int i, double&) const {
+    for (int c = 0; c <= D; ++c) s.access(i, c) += s.a[c];
+  }
+};
+
+// Runs the toy evaluator over a list of `kind` and returns (per-particle sums, reduction).
+template <PairScreen Screen, MinimumImage Image, int D, class Real, class Exec>
+std::pair<std::vector<double>, double> toy_sums(const Particles<D, Real, Exec>& p, const Box<D, Real>& box,
+                                                NeighborListKind kind, Real rc, Real list_cutoff,
+                                                PairRows rows = PairRows::all, Real inner = Real(0)) {
+  NeighborList<D, Real, Exec> list(list_cutoff, Real(0.3), kind);
+  if (inner > Real(0)) list.set_inner_cutoff(inner);
+  list.build(p, box);
+  using Ev = ToyEvaluator<D, Real, Exec, Screen, Image>;
+  Ev ev{{}, rc * rc, typename Ev::out_view("toy", p.size()), {}};
+  double total = 0;
+  if (kind == NeighborListKind::full) {
+    total = reduce_pairs("test::toy_full", FullList{}, list, box, p.x, ev, rows);
+  } else {
+    PairScatter<typename Ev::out_view> scatter;
+    ev.scatter = scatter.prepare(ev.out);
+    total = reduce_pairs("test::toy_half", HalfList{}, list, box, p.x, ev, rows);
+    scatter.contribute(ev.out);
+  }
+  auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), ev.out);
+  std::vector<double> out;
+  for (int i = 0; i < int(p.size()); ++i)
+    for (int c = 0; c <= D; ++c) out.push_back(h(i, c));
+  return {out, total};
+}
+
+// The same sums by brute force over all pairs (minimum image by rounding), in double.
+template <int D, class Real, class Exec>
+std::pair<std::vector<double>, double> toy_brute_force(const Particles<D, Real, Exec>& p, double L, double rc) {
+  auto x = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), p.x);
+  const int n = int(p.size());
+  std::vector<double> out(std::size_t(n) * (D + 1), 0.0);
+  double total = 0;
+  const double rc2 = double(Real(rc) * Real(rc));
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      if (i == j) continue;
+      double dr[D], r2 = 0;
+      for (int d = 0; d < D; ++d) {
+        dr[d] = double(x(i, d)) - double(x(j, d));
+        dr[d] -= L * std::round(dr[d] / L);
+        r2 += dr[d] * dr[d];
+      }
+      if (!(r2 < rc2)) continue;
+      const double w = 1.0 - r2 / rc2;
+      for (int d = 0; d < D; ++d) out[i * (D + 1) + d] += w * dr[d];
+      out[i * (D + 1) + D] += w;
+      total += w;
+    }
+  return {out, total};
+}
+
+template <PairScreen Screen, MinimumImage Image, class Real, class Exec>
+void check_toy_against_brute_force() {
+  constexpr int D = 3;
+  const double L = 7.0, rc = 1.6;
+  const int n = 200;
+  Particles<D, Real, Exec> p = lj_configuration<D, Real, Exec>(n, L, 11);
+  const Box<D, Real> box = Box<D, Real>::cube(Real(L), true);
+  const auto ref = toy_brute_force<D, Real, Exec>(p, L, rc);
+  const double tol = 1e3 * testing::eps<Real>();
+  // The list reaches beyond rc, so every screen has pairs to drop.
+  for (auto kind : {NeighborListKind::full, NeighborListKind::half}) {
+    const auto got = toy_sums<Screen, Image>(p, box, kind, Real(rc), Real(rc + 0.4));
+    ASSERT_EQ(got.first.size(), ref.first.size());
+    for (std::size_t k = 0; k < ref.first.size(); ++k) EXPECT_NEAR(got.first[k], ref.first[k], tol * 10) << k;
+    // Full lists visit each pair from both ends, half lists once.
+    const double visits = kind == NeighborListKind::full ? 1.0 : 0.5;
+    EXPECT_NEAR(got.second, visits * ref.second, tol * ref.second);
+  }
+}
+
+TYPED_TEST(PairForceTest, GenericLoopMatchesBruteForceForEveryScreenAndImage) {
+  using Real = typename TypeParam::real;
+  using Exec = typename TypeParam::exec;
+  check_toy_against_brute_force<PairScreen::evaluator, MinimumImage::exact, Real, Exec>();
+  check_toy_against_brute_force<PairScreen::branch, MinimumImage::near, Real, Exec>();
+  check_toy_against_brute_force<PairScreen::chunked, MinimumImage::near, Real, Exec>();
+  check_toy_against_brute_force<PairScreen::chunked, MinimumImage::exact, Real, Exec>();
+}
+
+TYPED_TEST(PairForceTest, GenericLoopFullListIsBitwiseTheSameForEveryScreen) {
+  using Real = typename TypeParam::real;
+  using Exec = typename TypeParam::exec;
+  Particles<3, Real, Exec> p = lj_configuration<3, Real, Exec>(200, 7.0, 4);
+  const Box<3, Real> box = Box<3, Real>::cube(Real(7.0), true);
+  const auto a = toy_sums<PairScreen::evaluator, MinimumImage::near>(p, box, NeighborListKind::full, Real(1.5), Real(2));
+  const auto b = toy_sums<PairScreen::branch, MinimumImage::near>(p, box, NeighborListKind::full, Real(1.5), Real(2));
+  const auto c = toy_sums<PairScreen::chunked, MinimumImage::near>(p, box, NeighborListKind::full, Real(1.5), Real(2));
+  EXPECT_EQ(a.first, b.first);
+  EXPECT_EQ(a.first, c.first);
+}
+
+TYPED_TEST(PairForceTest, GenericLoopInnerRowsHoldEveryPairWithinTheInnerCutoff) {
+  using Real = typename TypeParam::real;
+  using Exec = typename TypeParam::exec;
+  const double L = 7.0, inner = 1.2;
+  Particles<3, Real, Exec> p = lj_configuration<3, Real, Exec>(200, L, 8);
+  const Box<3, Real> box = Box<3, Real>::cube(Real(L), true);
+  const auto ref = toy_brute_force<3, Real, Exec>(p, L, inner);
+  for (auto kind : {NeighborListKind::full, NeighborListKind::half}) {
+    const auto got = toy_sums<PairScreen::branch, MinimumImage::near>(p, box, kind, Real(inner), Real(2.0),
+                                                                       PairRows::inner, Real(inner));
+    for (std::size_t k = 0; k < ref.first.size(); ++k)
+      EXPECT_NEAR(got.first[k], ref.first[k], 1e4 * testing::eps<Real>()) << k;
+    // Screened at the outer cutoff instead, inner rows miss pairs that whole rows hold.
+    const auto inner_only = toy_sums<PairScreen::branch, MinimumImage::near>(p, box, kind, Real(2.0), Real(2.0),
+                                                                              PairRows::inner, Real(inner));
+    const auto whole = toy_sums<PairScreen::branch, MinimumImage::near>(p, box, kind, Real(2.0), Real(2.0),
+                                                                         PairRows::all, Real(inner));
+    EXPECT_LT(inner_only.second, whole.second);
+  }
+}
+
+TEST(PairLoop, RefusesAListOfTheOtherKind) {
+  using Exec = Kokkos::DefaultExecutionSpace;
+  Particles<2, double, Exec> p = lj_configuration<2, double, Exec>(20, 6.0, 2);
+  const Box<2, double> box = Box<2, double>::cube(6.0, true);
+  NeighborList<2, double, Exec> half(1.5, 0.2, NeighborListKind::half);
+  half.build(p, box);
+  using Ev = ToyEvaluator<2, double, Exec, PairScreen::branch, MinimumImage::near>;
+  const Ev ev{{}, 2.25, Ev::out_view("toy", 20), {}};
+  EXPECT_THROW(for_each_pair("test::toy", FullList{}, half, box, p.x, ev), std::invalid_argument);
 }
 
 }  // namespace
