@@ -89,6 +89,7 @@ struct ColumnWriter {
 
 // Reads each column once and hands replica k its row.
 struct ColumnReader {
+  explicit ColumnReader(const io::CheckpointReader& reader) : r(reader) {}
   const io::CheckpointReader& r;
   std::size_t row = 0;
   std::map<std::string, std::vector<int>> ints;
@@ -143,7 +144,7 @@ inline std::vector<FinishedReplica> read_replica_checkpoint(const std::string& p
     throw std::invalid_argument("--restart: " + path +
                                 " was written with other parameters; resume with the same ones (or drop --restart)");
   std::vector<FinishedReplica> done(std::size_t(r.get_scalar_int64("finished")));
-  sweep_detail::ColumnReader columns{r};
+  sweep_detail::ColumnReader columns(r);
   for (columns.row = 0; columns.row < done.size(); ++columns.row) replica_fields(done[columns.row], columns);
   return done;
 }
