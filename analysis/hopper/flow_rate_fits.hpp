@@ -4,6 +4,11 @@
 #pragma once
 
 #include <array>
+#include <cmath>
+#include <fstream>
+#include <iomanip>
+#include <optional>
+#include <string>
 #include <vector>
 
 namespace mesoflow::hopper {
@@ -70,5 +75,41 @@ SigmoidFit fit_beta_sigmoid(const std::vector<double>& lambda, const std::vector
 // Appendix B: Q' = Q a_eff/a_avg with a_eff = 1/ρ_n (ρ_n the number density in the 2w × w region
 // above the orifice) and a_avg = (a_s + a_l)/2 the mean undeformed particle area (volume in 3D).
 double corrected_flow_rate(double Q, double number_density, double mean_particle_area);
+
+}  // namespace mesoflow::hopper
+
+namespace mesoflow::hopper {
+
+// Output tables of the fits (the `hopper` driver).
+// <stem>_fit.csv: the Beverloo fit over `points` widths.
+inline void write_beverloo_csv(const std::string& path, const BeverlooFit& fit, std::size_t points) {
+  std::ofstream fcsv(path);
+  fcsv << std::setprecision(10) << "C,C_error,k,k_error,beta,beta_error,chi2_per_dof,points\n"
+       << fit.C << ',' << fit.C_error << ',' << fit.k << ',' << fit.k_error << ',' << fit.beta << ',' << fit.beta_error
+       << ',' << fit.chi2_per_dof << ',' << points << '\n';
+}
+
+// <stem>_vary.csv: the Beverloo parameters against each value of an outer sweep `name` and
+// λ = ζ/μ; appends to (x, beta, beta_error) the fits with 0 < λ < ∞ (for the sigmoid β(λ), eq. 14).
+inline void write_vary_csv(const std::string& path, const std::string& name, const std::vector<double>& values,
+                           const std::vector<double>& lambdas, const std::vector<std::optional<BeverlooFit>>& fits,
+                           std::vector<double>& x, std::vector<double>& beta, std::vector<double>& beta_error) {
+  std::ofstream csv(path);
+  csv << std::setprecision(10) << name << ",lambda,C,C_error,k,k_error,beta,beta_error,chi2_per_dof\n";
+  for (std::size_t j = 0; j < values.size(); ++j) {
+    csv << values[j] << ',' << lambdas[j];
+    if (const auto& f = fits[j]) {
+      csv << ',' << f->C << ',' << f->C_error << ',' << f->k << ',' << f->k_error << ',' << f->beta << ','
+          << f->beta_error << ',' << f->chi2_per_dof << '\n';
+      if (lambdas[j] > 0 && std::isfinite(lambdas[j])) {
+        x.push_back(lambdas[j]);
+        beta.push_back(f->beta);
+        beta_error.push_back(f->beta_error);
+      }
+    } else {
+      csv << ",,,,,,,\n";
+    }
+  }
+}
 
 }  // namespace mesoflow::hopper

@@ -17,6 +17,7 @@
 // it), <out>.json (best Γ, b0/b∞, Δ_v, convergence), <out>.png (measured and best-fit v_g/v_t
 // against h; --no-plot skips it).
 #include "drivers/common/cli.hpp"
+#include "drivers/common/json_summary.hpp"
 #include "drivers/common/output_paths.hpp"
 #include "scenes/droplets/calibrate.hpp"
 
@@ -88,13 +89,17 @@ void run(Parameters par, const cli::DriverApp& app) {
       best << prof.t[i] << ',' << prof.h[i] << ',' << prof.vg[i] / d.terminal_speed << ',' << prof.shape[i] << ','
            << prof.area[i] << ',' << prof.kinetic[i] << '\n';
   }
-  std::ofstream json(out.summary);
-  json << std::setprecision(10) << "{\n  \"driver\": \"calibrate\",\n  \"measured\": \"" << par.measured
-       << "\",\n  \"frames\": " << measured.h.size() << ",\n  \"fit\": \"" << par.fit
-       << "\",\n  \"line_tension\": " << result.line_tension << ",\n  \"near_wall_drag\": " << result.near_wall_drag
-       << ",\n  \"speed_deviation\": " << result.speed_deviation << ",\n  \"converged\": "
-       << (result.converged ? "true" : "false") << ",\n  \"evaluations\": " << result.history.size()
-       << ",\n  \"wall_seconds\": " << wall << ",\n  \"kokkos\": \"" << kokkos_configuration() << "\"\n}\n";
+  cli::write_summary(out.summary, cli::Json{{"driver", "calibrate"},
+                                             {"measured", par.measured},
+                                             {"frames", measured.h.size()},
+                                             {"fit", par.fit},
+                                             {"line_tension", result.line_tension},
+                                             {"near_wall_drag", result.near_wall_drag},
+                                             {"speed_deviation", cli::summary_number(result.speed_deviation)},
+                                             {"converged", result.converged},
+                                             {"evaluations", result.history.size()},
+                                             {"wall_seconds", wall},
+                                             {"kokkos", kokkos_configuration()}});
   if (!par.no_plot)
     driver::plot_with_matplotlib("calibrate", "plot_orifice_profile.py",
                                  {stem + ".best.csv", stem + ".png", "--label", "best fit", "--compare", par.measured,

@@ -15,6 +15,7 @@
 // area-centroid and top drops, 𝒜, a/a0, edge spread, wall overlap, FIRE iterations, convergence),
 // <out>.json (parameters and timing), <out>.png (δ_s against the swept parameter; --no-plot skips it).
 #include "drivers/common/cli.hpp"
+#include "drivers/common/json_summary.hpp"
 #include "drivers/common/output_paths.hpp"
 #include "scenes/droplets/deformation.hpp"
 
@@ -106,14 +107,15 @@ void run(const Parameters& par, const cli::DriverApp& app) {
                 << r.max_force << (r.converged ? "" : " NOT CONVERGED") << "\n";
   }
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
-  std::ofstream json(out.summary);
-  json << std::setprecision(10) << "{\n  \"driver\": \"deformation\",\n  \"model\": \"" << par.model
-       << "\",\n  \"points\": " << par.points << ",\n  \"all_converged\": " << (all_converged ? "true" : "false")
-       << ",\n  \"wall_seconds\": " << wall << ",\n  \"parameters\": {";
-  const auto params = app.resolved_parameters();
-  for (std::size_t i = 0; i < params.size(); ++i)
-    json << (i ? ", " : "") << '"' << params[i].first << "\": \"" << params[i].second << '"';
-  json << "},\n  \"kokkos\": \"" << kokkos_configuration() << "\"\n}\n";
+  cli::Json parameters = cli::Json::object();
+  for (const auto& [key, value] : app.resolved_parameters()) parameters[key] = value;
+  cli::write_summary(out.summary, cli::Json{{"driver", "deformation"},
+                                             {"model", par.model},
+                                             {"points", par.points},
+                                             {"all_converged", all_converged},
+                                             {"wall_seconds", wall},
+                                             {"parameters", parameters},
+                                             {"kokkos", kokkos_configuration()}});
   if (!par.no_plot) {
     const std::string png = out.csv.substr(0, out.csv.size() - 4) + ".png";
     driver::plot_with_matplotlib("deformation", "plot_deformation.py", {out.csv, png}, png, app.quiet());

@@ -15,6 +15,7 @@
 // attributes), <out>.xdmf (ParaView), <out>.csv (the profile: t, h, v_g/v_t, 𝒜, a/a0, E_k/E_t),
 // <out>.json (outcome and summary), <out>.png (v_g/v_t and 𝒜 against h; --no-plot skips it).
 #include "drivers/common/cli.hpp"
+#include "drivers/common/json_summary.hpp"
 #include "drivers/common/output_paths.hpp"
 #include "drivers/common/particle_io.hpp"
 #include "drivers/common/progress.hpp"
@@ -95,18 +96,21 @@ void run(const Parameters& par, const cli::DriverApp& app) {
     if (prof.h[i] > 0) vmax_after = std::max(vmax_after, prof.vg[i] / vt);
     shape_max = std::max(shape_max, prof.shape[i]);
   }
-  std::ofstream json(out.summary);
-  json << std::setprecision(8) << "{\n  \"driver\": \"orifice\",\n  \"outcome\": \"" << droplets::to_string(prof.outcome)
-       << "\",\n  \"time\": " << prof.t.back() << ",\n  \"final_h\": " << prof.h.back()
-       << ",\n  \"dt\": " << prof.dt << ",\n  \"steps\": " << prof.steps
-       << ",\n  \"min_vg_over_vt_before_orifice\": " << (std::isfinite(vmin_before) ? vmin_before : 0.0)
-       << ",\n  \"max_vg_over_vt_after_orifice\": " << vmax_after << ",\n  \"max_shape_parameter\": " << shape_max
-       << ",\n  \"free_area_over_a0\": " << prof.free_area << ",\n  \"max_area_error\": " << prof.max_area_error
-       << ",\n  \"wall_seconds\": " << wall << ",\n  \"steps_per_second\": " << (wall > 0 ? prof.steps / wall : 0.0)
-       << ",\n  \"components\": [";
-  for (std::size_t k = 0; k < prof.components.size(); ++k)
-    json << (k ? ", " : "") << '"' << prof.components[k] << '"';
-  json << "],\n  \"kokkos\": \"" << kokkos_configuration() << "\"\n}\n";
+  cli::write_summary(out.summary, cli::Json{{"driver", "orifice"},
+                                             {"outcome", droplets::to_string(prof.outcome)},
+                                             {"time", prof.t.back()},
+                                             {"final_h", prof.h.back()},
+                                             {"dt", prof.dt},
+                                             {"steps", prof.steps},
+                                             {"min_vg_over_vt_before_orifice", std::isfinite(vmin_before) ? vmin_before : 0.0},
+                                             {"max_vg_over_vt_after_orifice", vmax_after},
+                                             {"max_shape_parameter", shape_max},
+                                             {"free_area_over_a0", prof.free_area},
+                                             {"max_area_error", prof.max_area_error},
+                                             {"wall_seconds", wall},
+                                             {"steps_per_second", wall > 0 ? prof.steps / wall : 0.0},
+                                             {"components", prof.components},
+                                             {"kokkos", kokkos_configuration()}});
   if (!par.no_plot) {
     const std::string png = out.csv.substr(0, out.csv.size() - 4) + ".png";
     driver::plot_with_matplotlib("orifice", "plot_orifice_profile.py", {out.csv, png}, png, app.quiet());

@@ -14,22 +14,13 @@
 // FIRE without gravity, then flow (scenes/hopper/hopper_scene.hpp; steady-state and clogging criteria in
 // scenes/hopper/flow_measurement.hpp).
 //
-// Measured over the windows that make Q (after the steady state), at each window's end:
-//   - the velocity profile on the hopper axis (§4, Fig. 5): Gaussian coarse-graining of width σ_avg
-//     (kernels/common/coarse_graining.hpp) at h = 0, 0.25, … 23.75 σ_avg above the orifice; the
-//     number density n(h), the paper's v_g(h) = Σ v_g,i φ (j_g), and the mean particle speed j_g/n;
-//   - the number density ρ_n in the 2w × w region above the orifice (3D: the cylinder of diameter 2w,
-//     height w) and the corrected flow rate Q' = Q/(ρ_n a_avg) of Appendix B (SP only: the correction
-//     is for overlapping soft particles; DP polygons keep their area, and Q' is not written).
-// For DP the profile is coarse-grained over vertices (every polygon has N_v of them, so the mean
-// vertex speed is the mean polygon speed, smeared over the polygon's extent).
+// Measured over the windows that make Q: the velocity profile on the hopper axis (§4, Fig. 5) and,
+// SP only, the corrected flow rate Q' of Appendix B (scenes/hopper/hopper_sweep.hpp).
 //
 // Output (<out> = --output without its extension): <out>.h5 (per width k: observables
-// window_flow_rate_<k>, profile_number_density_<k>, profile_vg_<k> (one frame, the window average);
-// attributes w_<k>, Q_<k>, Q_error_<k>, Q_corrected_<k>, clogged_<k>, steady_<k>; parameters),
-// <out>.csv (w, Q, Q_error, Q_corrected, number_density_orifice, clogged, steady), <out>_profile.csv
-// (w, h, n, vg_sum, vg_mean), <out>.json (results, the fit), <out>_fit.csv (the fit, when there is
-// one), <out>.png (Q(w) with the fit and the v_g(h) profiles; --no-plot skips it).
+// window_flow_rate_<k>, profile_number_density_<k>, profile_vg_<k>; attributes w_<k>, Q_<k>, …
+// (hopper::WidthRun::attributes); parameters), <out>.csv, <out>_profile.csv, <out>.json (results,
+// the fit), <out>_fit.csv (the fit, when there is one), <out>.png (--no-plot skips it).
 // --vary NAME --values v1,…: one such sweep per value, each with outputs <out>_<NAME><v>.*, then
 // <out>_vary.csv (v, λ = ζ/μ, C, k, β with errors) and <out>_vary.json (the sigmoid β(λ) of eq. 14
 // when drag or friction varies and ≥ 3 fits have 0 < λ < ∞).
@@ -41,16 +32,11 @@
 // hopper sweep is run again from the start.
 #include "drivers/common/cli.hpp"
 #include "drivers/common/ensemble_mpi.hpp"
+#include "drivers/common/json_summary.hpp"
 #include "drivers/common/output_paths.hpp"
-#include "scenes/hopper/flow_measurement.hpp"
 #include "analysis/hopper/flow_rate_fits.hpp"
-#include "scenes/hopper/dp_hopper_scene.hpp"
-#include "scenes/hopper/hopper_scene.hpp"
-#include "kernels/common/coarse_graining.hpp"
-#include "io/h5md_writer.hpp"
+#include "scenes/hopper/hopper_sweep.hpp"
 
-#include <array>
-#include <chrono>
 #include <fstream>
 #include <iomanip>
 #include <iostream>
@@ -60,72 +46,7 @@
 namespace mesoflow {
 namespace {
 
-constexpr int profile_points = 96;
-constexpr double profile_dh = 0.25;  // σ_avg between profile points, from h = 0
-
-// Window averages over the measuring windows of one width.
-struct WidthMeasurement {
-  std::array<double, profile_points> n{}, vg_sum{};
-  double orifice_count = 0;
-  int samples = 0;
-};
-
-// One width's run, as rank 0 writes it: the flow result, the rate of every window (the
-// window_flow_rate observable), the window-averaged profiles and the scene's counters at the end.
-struct WidthRun {
-  struct Scalars {  // the fixed-size part, sent as bytes
-    double Q = 0, Q_error = 0;
-    bool clogged = false, steady = false;
-    double steady_time = 0, result_end_time = 0;
-    long long steps = 0;  // at the end of the run (the profile frames' step)
-    double time = 0;      // t/t0 at the end
-    double rho_n = NAN, Q_corrected = NAN;
-    long long insertions = 0;
-    double max_insertion_overlap = 0;
-    double seconds = 0;  // wall time of this width's run
-    std::size_t windows = 0;
-  } scalars;
-  WidthMeasurement measured;
-  struct Window {
-    std::int64_t step;
-    double time, q;
-  };
-  std::vector<Window> windows;
-
-  // The result without its window rates (they are in `windows`).
-  hopper::FlowResult result() const {
-    hopper::FlowResult r;
-    r.Q = scalars.Q;
-    r.Q_error = scalars.Q_error;
-    r.clogged = scalars.clogged;
-    r.steady = scalars.steady;
-    r.steady_time = scalars.steady_time;
-    r.end_time = scalars.result_end_time;
-    return r;
-  }
-};
-
-void append_bytes(std::vector<char>& out, std::size_t item, const WidthRun& run) {
-  ensemble::append_bytes(out, item);
-  WidthRun::Scalars s = run.scalars;
-  s.windows = run.windows.size();
-  ensemble::append_bytes(out, s);
-  ensemble::append_bytes(out, run.measured);
-  for (const WidthRun::Window& w : run.windows) ensemble::append_bytes(out, w);
-}
-
-// Reads the width runs of one rank's bytes into runs[item].
-void read_runs(const std::vector<char>& bytes, std::vector<WidthRun>& runs) {
-  for (std::size_t offset = 0; offset < bytes.size();) {
-    const auto k = ensemble::read_bytes<std::size_t>(bytes, offset);
-    if (k >= runs.size()) throw std::runtime_error("hopper: a rank sent work item " + std::to_string(k));
-    WidthRun& run = runs[k];
-    run.scalars = ensemble::read_bytes<WidthRun::Scalars>(bytes, offset);
-    run.measured = ensemble::read_bytes<WidthMeasurement>(bytes, offset);
-    run.windows.resize(run.scalars.windows);
-    for (WidthRun::Window& w : run.windows) w = ensemble::read_bytes<WidthRun::Window>(bytes, offset);
-  }
-}
+using hopper::WidthRun;
 
 struct Parameters {
   std::string vary;    // empty, or the parameter swept in an outer loop (--vary)
@@ -142,230 +63,69 @@ struct Parameters {
   bool no_plot = false;
 };
 
-// One w sweep: its parameters (with the --vary value set), output path and console label ("--drag
-// 0.3" with --vary, else empty); SweepSpec the same with the scene's parameters.
-struct SweepRequest {
-  Parameters parameters;
-  std::string output, label;
-};
+// One w sweep: its scene parameters (with the --vary value set), output path and console label
+// ("--drag 0.3" with --vary, else empty).
 template <class SceneParameters>
 struct SweepSpec {
   SceneParameters base;
   std::string output, label;
 };
 
-// --widths: each in (0, W).
-std::vector<double> parse_widths(const std::string& text, double W) {
-  return cli::parse_number_list(
-      text, "--widths", [W](double w) { return w > 0 && w < W; }, "in (0, W = " + std::to_string(W) + ")");
-}
-
-// Scene parameters for width index k: the base with w and seed + k.
-template <class SceneParameters>
-SceneParameters at_width(const SceneParameters& base, double w, std::size_t k) {
-  SceneParameters p = base;
-  p.orifice = w;
-  p.seed = base.seed + k;
-  return p;
-}
-
-void validate(const hopper::HopperParameters& p, int dim) { p.validate(dim); }
-void validate(const hopper::DpHopperParameters& p, int) { p.validate(); }
-
-// Scene: HopperScene<D> (SP) or DpHopperScene (DP, D = 2); `bodies` = updates per particle-step
-// reported (1 for SP, N_v vertices per polygon for DP).
-template <class Scene, int D, class SceneParameters>
-std::optional<hopper::BeverlooFit> write_sweep(const SweepSpec<SceneParameters>& sweep, const std::vector<double>& widths,
-                                               const std::vector<WidthRun>& runs, const Parameters& par,
-                                               const cli::DriverApp& app, const ensemble::Ranks& ranks, int bodies);
-
-// The w sweeps `sweeps` (one, or one per --vary value): the work items (sweep, width) are shared
-// among the ranks; rank 0 writes every sweep's outputs and returns their fits (the other ranks: none).
-template <class Scene, int D, class SceneParameters>
-std::vector<std::optional<hopper::BeverlooFit>> run(const std::vector<SweepSpec<SceneParameters>>& sweeps,
-                                                    const Parameters& par, const cli::DriverApp& app,
-                                                    const ensemble::Ranks& ranks, int bodies) {
-  constexpr bool soft_particles = std::is_same_v<SceneParameters, hopper::HopperParameters>;
-  std::vector<std::vector<double>> widths;
-  for (const SweepSpec<SceneParameters>& sweep : sweeps) {
-    widths.push_back(parse_widths(par.widths, sweep.base.hopper_width));
-    for (std::size_t k = 0; k < widths.back().size(); ++k)
-      validate(at_width(sweep.base, widths.back()[k], k), D);  // before any output
-  }
-  par.flow.validate();
-  const std::size_t n_widths = widths.front().size();
-  // This rank's items, item = sweep × n_widths + width; every rank reports its own as they finish.
-  std::vector<char> sent;
-  for (const std::size_t item : ensemble::shard(sweeps.size() * n_widths, ranks.rank(), ranks.size())) {
-    const std::size_t k = item % n_widths;
-    const SweepSpec<SceneParameters>& sweep = sweeps[item / n_widths];
-    const auto width_start = std::chrono::steady_clock::now();
-    Scene scene(at_width(sweep.base, widths[item / n_widths][k], k));
-    scene.relax();
-    WidthRun run;
-    WidthMeasurement& m = run.measured;
-    const auto r = hopper::measure_flow_rate<Scene>(
-        scene, par.flow, [&](const Scene& s, double q, bool measuring) {
-          run.windows.push_back({std::int64_t(s.steps()), s.time(), q});
-          if (!measuring) return;
-          const auto prof = gaussian_axis_profile<profile_points>(s.particles(), 0.0, profile_dh, 1.0);
-          for (int j = 0; j < profile_points; ++j) {
-            m.n[j] += prof.number_density[j];
-            m.vg_sum[j] += prof.velocity_sum[j];
-          }
-          if constexpr (soft_particles) m.orifice_count += s.orifice_region_count();
-          ++m.samples;
-        });
-    if (m.samples > 0) {
-      for (int j = 0; j < profile_points; ++j) {
-        m.n[j] /= m.samples;
-        m.vg_sum[j] /= m.samples;
-      }
-      m.orifice_count /= m.samples;
-    }
-    WidthRun::Scalars& v = run.scalars;
-    if constexpr (soft_particles) {
-      v.rho_n = m.orifice_count / scene.orifice_region_measure();
-      if (v.rho_n > 0) v.Q_corrected = hopper::corrected_flow_rate(r.Q, v.rho_n, Scene::mean_particle_measure());
-    }
-    v.Q = r.Q;
-    v.Q_error = r.Q_error;
-    v.clogged = r.clogged;
-    v.steady = r.steady;
-    v.steady_time = r.steady_time;
-    v.result_end_time = r.end_time;
-    v.steps = scene.steps();
-    v.time = scene.time();
-    v.insertions = scene.insertions();
-    v.max_insertion_overlap = scene.max_insertion_overlap();
-    v.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - width_start).count();
-    append_bytes(sent, item, run);
-    if (!app.quiet())
-      std::cout << "hopper: " << (sweep.label.empty() ? "" : sweep.label + ", ") << "w = " << widths[item / n_widths][k]
-                << ": "
-                << (r.clogged ? std::string("clogged at t = ") + std::to_string(r.end_time)
-                              : "Q = " + std::to_string(r.Q) + " ± " + std::to_string(r.Q_error) +
-                                    (r.steady ? "" : " (no steady state by --max-time)"))
-                << " (" << scene.steps() << " steps, " << scene.insertions() << " re-insertions)\n";
-  }
-  // Rank 0 gathers every width's run and writes the outputs; the other ranks are done.
-  const std::vector<std::vector<char>> gathered = ranks.gather(sent);
-  if (!ranks.root()) return {};
-  std::vector<WidthRun> runs(sweeps.size() * n_widths);
-  for (const std::vector<char>& bytes : gathered) read_runs(bytes, runs);
-  std::vector<std::optional<hopper::BeverlooFit>> fits;
-  for (std::size_t s = 0; s < sweeps.size(); ++s)
-    fits.push_back(write_sweep<Scene, D>(
-        sweeps[s], widths[s],
-        std::vector<WidthRun>(runs.begin() + std::ptrdiff_t(s * n_widths), runs.begin() + std::ptrdiff_t((s + 1) * n_widths)),
-        par, app, ranks, bodies));
-  return fits;
-}
-
 // Rank 0: the outputs of one w sweep from its widths' runs. wall_seconds in the JSON is the sum of
 // the widths' run times (the sweep's wall time on one rank), so the rate is per rank.
-template <class Scene, int D, class SceneParameters>
+template <int D, class SceneParameters>
 std::optional<hopper::BeverlooFit> write_sweep(const SweepSpec<SceneParameters>& sweep, const std::vector<double>& widths,
                                                const std::vector<WidthRun>& runs, const Parameters& par,
                                                const cli::DriverApp& app, const ensemble::Ranks& ranks, int bodies) {
   constexpr bool soft_particles = std::is_same_v<SceneParameters, hopper::HopperParameters>;
   const driver::OutputPaths out(sweep.output);
-  double wall = 0;
-  for (const WidthRun& run : runs) wall += run.scalars.seconds;
-  std::optional<io::H5mdWriter> h5;
-  h5.emplace(out.trajectory, "mesoflow", MESOFLOW_VERSION, "mesoflow hopper");
-  for (const auto& [key, value] : app.resolved_parameters()) h5->set_parameter(key, value);
-  std::vector<hopper::FlowResult> results;
-  std::vector<WidthMeasurement> measured(widths.size());
-  std::vector<double> corrected, densities;
-  long long steps = 0;
-  for (std::size_t k = 0; k < widths.size(); ++k) {
-    const WidthRun& run = runs[k];
-    const WidthRun::Scalars& v = run.scalars;
-    const std::string name = "window_flow_rate_" + std::to_string(k);
-    for (const WidthRun::Window& w : run.windows) h5->append_observable(name, w.step, w.time, w.q);
-    const std::string suffix = "_" + std::to_string(k);
-    const WidthMeasurement& m = measured[k] = run.measured;
-    if (m.samples > 0) {
-      h5->append_observable("profile_number_density" + suffix, v.steps, v.time, m.n.data(), m.n.size());
-      h5->append_observable("profile_vg" + suffix, v.steps, v.time, m.vg_sum.data(), m.vg_sum.size());
-    }
-    if constexpr (soft_particles) h5->set_parameter("Q_corrected" + suffix, v.Q_corrected);
-    corrected.push_back(v.Q_corrected);
-    densities.push_back(v.rho_n);
-    h5->set_parameter("w" + suffix, widths[k]);
-    h5->set_parameter("Q" + suffix, v.Q);
-    h5->set_parameter("Q_error" + suffix, v.Q_error);
-    h5->set_parameter("clogged" + suffix, v.clogged);
-    h5->set_parameter("steady" + suffix, v.steady);
-    h5->set_parameter("insertions" + suffix, v.insertions);
-    h5->set_parameter("max_insertion_overlap" + suffix, v.max_insertion_overlap);
-    steps += v.steps;
-    results.push_back(run.result());
-  }
-  h5.reset();
-
-  std::ofstream csv(out.csv);
-  csv << std::setprecision(10) << "w,Q,Q_error,Q_corrected,number_density_orifice,clogged,steady\n";
-  std::vector<double> x, Q, Qe;
-  for (std::size_t k = 0; k < widths.size(); ++k) {
-    const auto& r = results[k];
-    csv << widths[k] << ',' << r.Q << ',' << r.Q_error << ',' << corrected[k] << ',' << densities[k] << ','
-        << int(r.clogged) << ',' << int(r.steady) << '\n';
-    if (!r.clogged && r.steady && r.Q > 0 && r.Q_error > 0) {
-      x.push_back(widths[k]);
-      Q.push_back(r.Q);
-      Qe.push_back(r.Q_error);
-    }
-  }
-  csv.close();
   const std::string base = out.csv.substr(0, out.csv.size() - 4);
-  std::ofstream pcsv(base + "_profile.csv");
-  pcsv << std::setprecision(10) << "w,h,n,vg_sum,vg_mean\n";
-  for (std::size_t k = 0; k < widths.size(); ++k) {
-    const auto& m = measured[k];
-    if (m.samples == 0) continue;
-    for (int j = 0; j < profile_points; ++j)
-      pcsv << widths[k] << ',' << j * profile_dh << ',' << m.n[j] << ',' << m.vg_sum[j] << ','
-           << (m.n[j] > 1e-6 ? m.vg_sum[j] / m.n[j] : 0.0) << '\n';
+  {
+    io::H5mdWriter h5(out.trajectory, "mesoflow", MESOFLOW_VERSION, "mesoflow hopper");
+    for (const auto& [key, value] : app.resolved_parameters()) h5.set_parameter(key, value);
+    hopper::write_width_outputs(h5, widths, runs, soft_particles);
   }
-  pcsv.close();
+  hopper::write_width_tables(out.csv, base + "_profile.csv", widths, runs);
+  std::vector<double> x, Q, Qe;
+  double wall = 0;
+  long long steps = 0;
+  cli::Json results = cli::Json::array();
+  for (std::size_t k = 0; k < widths.size(); ++k) {
+    const WidthRun::Scalars& v = runs[k].scalars;
+    wall += v.seconds;
+    steps += v.steps;
+    if (!v.clogged && v.steady && v.Q > 0 && v.Q_error > 0) {
+      x.push_back(widths[k]);
+      Q.push_back(v.Q);
+      Qe.push_back(v.Q_error);
+    }
+    const auto or_minus_one = [](double y) { return std::isfinite(y) ? y : -1.0; };
+    results.push_back({{"w", widths[k]}, {"Q", v.Q}, {"Q_error", or_minus_one(v.Q_error)},
+                       {"Q_corrected", or_minus_one(v.Q_corrected)}, {"number_density_orifice", or_minus_one(v.rho_n)},
+                       {"clogged", v.clogged}, {"steady", v.steady}, {"steady_time", v.steady_time},
+                       {"end_time", v.result_end_time}});
+  }
   std::optional<hopper::BeverlooFit> fit;
   if (x.size() >= 4) fit = hopper::fit_beverloo(x, Q, Qe);
-  std::ofstream json(out.summary);
-  json << std::setprecision(10) << "{\n  \"driver\": \"hopper\",\n  \"model\": \"" << par.model
-       << "\",\n  \"dimension\": " << D << ",\n  \"results\": [";
-  for (std::size_t k = 0; k < widths.size(); ++k) {
-    const auto& r = results[k];
-    json << (k ? "," : "") << "\n    {\"w\": " << widths[k] << ", \"Q\": " << r.Q << ", \"Q_error\": "
-         << (std::isfinite(r.Q_error) ? r.Q_error : -1.0)
-         << ", \"Q_corrected\": " << (std::isfinite(corrected[k]) ? corrected[k] : -1.0)
-         << ", \"number_density_orifice\": " << (std::isfinite(densities[k]) ? densities[k] : -1.0)
-         << ", \"clogged\": " << (r.clogged ? "true" : "false")
-         << ", \"steady\": " << (r.steady ? "true" : "false") << ", \"steady_time\": " << r.steady_time
-         << ", \"end_time\": " << r.end_time << "}";
-  }
-  json << "\n  ],\n";
+  cli::Json json{{"driver", "hopper"}, {"model", par.model}, {"dimension", D}, {"results", results}};
+  json["beverloo"] = nullptr;
   if (fit) {
-    json << "  \"beverloo\": {\"C\": " << fit->C << ", \"C_error\": " << fit->C_error << ", \"k\": " << fit->k
-         << ", \"k_error\": " << fit->k_error << ", \"beta\": " << fit->beta << ", \"beta_error\": " << fit->beta_error
-         << ", \"chi2_per_dof\": " << fit->chi2_per_dof << ", \"points\": " << x.size() << "},\n";
-    std::ofstream fcsv(base + "_fit.csv");
-    fcsv << std::setprecision(10) << "C,C_error,k,k_error,beta,beta_error,chi2_per_dof,points\n"
-         << fit->C << ',' << fit->C_error << ',' << fit->k << ',' << fit->k_error << ',' << fit->beta << ','
-         << fit->beta_error << ',' << fit->chi2_per_dof << ',' << x.size() << '\n';
-  } else {
-    json << "  \"beverloo\": null,\n";
+    json["beverloo"] = {{"C", fit->C}, {"C_error", fit->C_error}, {"k", fit->k}, {"k_error", fit->k_error},
+                        {"beta", fit->beta}, {"beta_error", fit->beta_error}, {"chi2_per_dof", fit->chi2_per_dof},
+                        {"points", x.size()}};
+    hopper::write_beverloo_csv(base + "_fit.csv", *fit, x.size());
   }
-  json << "  \"ranks\": " << ranks.size() << ",\n  \"steps\": " << steps << ",\n  \"wall_seconds\": " << wall << ",\n  \"" << (soft_particles ? "particle" : "vertex") << "_steps_per_second\": "
-       << (wall > 0 ? double(steps) * sweep.base.particles * bodies / wall : 0.0) << ",\n  \"kokkos\": \""
-       << kokkos_configuration() << "\"\n}\n";
-  json.close();
+  json["ranks"] = ranks.size();
+  json["steps"] = steps;
+  json["wall_seconds"] = wall;
+  json[std::string(soft_particles ? "particle" : "vertex") + "_steps_per_second"] =
+      wall > 0 ? double(steps) * sweep.base.particles * bodies / wall : 0.0;
+  json["kokkos"] = kokkos_configuration();
+  cli::write_summary(out.summary, json);
   if (!par.no_plot) {
-    const std::string png = base + ".png";
-    std::vector<std::string> args{out.csv, png, "--profile", base + "_profile.csv"};
+    std::vector<std::string> args{out.csv, base + ".png", "--profile", base + "_profile.csv"};
     if (fit) args.insert(args.end(), {"--fit", base + "_fit.csv"});
-    driver::plot_with_matplotlib("hopper", "plot_hopper.py", args, png, app.quiet());
+    driver::plot_with_matplotlib("hopper", "plot_hopper.py", args, base + ".png", app.quiet());
   }
   if (!app.quiet() && !sweep.label.empty()) std::cout << "hopper: " << sweep.label << "\n";
   if (!app.quiet() && fit)
@@ -374,76 +134,104 @@ std::optional<hopper::BeverlooFit> write_sweep(const SweepSpec<SceneParameters>&
   return fit;
 }
 
-// --values: each > 0 (drag and friction may be 0).
-std::vector<double> parse_values(const std::string& text, bool zero_allowed) {
-  return cli::parse_number_list(
-      text, "--values", [zero_allowed](double v) { return zero_allowed ? v >= 0 : v > 0; },
-      zero_allowed ? ">= 0" : "> 0");
+// The w sweeps `sweeps` (one, or one per --vary value): the work items (sweep, width) are shared
+// among the ranks; rank 0 writes every sweep's outputs and returns their fits (the other ranks: none).
+// Scene: HopperScene<D> (SP) or DpHopperScene (DP, D = 2); `bodies` = updates per particle-step
+// reported (1 for SP, N_v vertices per polygon for DP).
+template <class Scene, int D, class SceneParameters>
+std::vector<std::optional<hopper::BeverlooFit>> run(const std::vector<SweepSpec<SceneParameters>>& sweeps,
+                                                    const Parameters& par, const cli::DriverApp& app,
+                                                    const ensemble::Ranks& ranks, int bodies) {
+  std::vector<std::vector<double>> widths;
+  for (const SweepSpec<SceneParameters>& sweep : sweeps) {
+    const double W = sweep.base.hopper_width;
+    widths.push_back(cli::parse_number_list(
+        par.widths, "--widths", [W](double w) { return w > 0 && w < W; }, "in (0, W = " + std::to_string(W) + ")"));
+    for (std::size_t k = 0; k < widths.back().size(); ++k)
+      hopper::validate(hopper::at_width(sweep.base, widths.back()[k], k), D);  // before any output
+  }
+  par.flow.validate();
+  const std::size_t n_widths = widths.front().size();
+  // This rank's items, item = sweep × n_widths + width; every rank reports its own as they finish.
+  std::vector<char> sent;
+  for (const std::size_t item : ensemble::shard(sweeps.size() * n_widths, ranks.rank(), ranks.size())) {
+    const SweepSpec<SceneParameters>& sweep = sweeps[item / n_widths];
+    const double w = widths[item / n_widths][item % n_widths];
+    const WidthRun run = hopper::run_width<Scene>(sweep.base, w, item % n_widths, par.flow, [&](const Scene& scene,
+                                                                                             const hopper::FlowResult& r) {
+      if (!app.quiet())
+        std::cout << "hopper: " << (sweep.label.empty() ? "" : sweep.label + ", ") << "w = " << w << ": "
+                  << (r.clogged ? std::string("clogged at t = ") + std::to_string(r.end_time)
+                                : "Q = " + std::to_string(r.Q) + " ± " + std::to_string(r.Q_error) +
+                                      (r.steady ? "" : " (no steady state by --max-time)"))
+                  << " (" << scene.steps() << " steps, " << scene.insertions() << " re-insertions)\n";
+    });
+    ensemble::append_bytes(sent, item);
+    run.append_bytes(sent);
+  }
+  // Rank 0 gathers every width's run and writes the outputs; the other ranks are done.
+  const std::vector<std::vector<char>> gathered = ranks.gather(sent);
+  if (!ranks.root()) return {};
+  std::vector<WidthRun> runs(sweeps.size() * n_widths);
+  for (const std::vector<char>& bytes : gathered)
+    for (std::size_t offset = 0; offset < bytes.size();) {
+      const auto k = ensemble::read_bytes<std::size_t>(bytes, offset);
+      if (k >= runs.size()) throw std::runtime_error("hopper: a rank sent work item " + std::to_string(k));
+      runs[k].read_bytes(bytes, offset);
+    }
+  if constexpr (std::is_same_v<SceneParameters, hopper::HopperParameters>)  // Q' of Appendix B
+    for (WidthRun& r : runs)
+      if (r.scalars.rho_n > 0)
+        r.scalars.Q_corrected = hopper::corrected_flow_rate(r.scalars.Q, r.scalars.rho_n, Scene::mean_particle_measure());
+  std::vector<std::optional<hopper::BeverlooFit>> fits;
+  for (std::size_t s = 0; s < sweeps.size(); ++s)
+    fits.push_back(write_sweep<D>(
+        sweeps[s], widths[s],
+        std::vector<WidthRun>(runs.begin() + std::ptrdiff_t(s * n_widths), runs.begin() + std::ptrdiff_t((s + 1) * n_widths)),
+        par, app, ranks, bodies));
+  return fits;
 }
 
-// Sets the --vary parameter of the scene parameters to v.
-void set_varied(Parameters& par, double v) {
-  const std::string& name = par.vary;
-  if (name == "drag") par.scene.drag = par.dp.drag = v;
-  else if (name == "friction") par.scene.friction = par.dp.friction = v;
-  else if (name == "pair-energy") par.scene.pair_energy = v;
-  else if (name == "perimeter-stiffness") par.dp.perimeter_stiffness = v;
-  else if (name == "bending") par.dp.bending_stiffness = v;
-}
-
-// One w sweep per --values entry (outputs <out>_<vary><value>.*), then <out>_vary.csv with the
-// Beverloo parameters against the value and λ = ζ/μ, and, when drag or friction is varied and at
-// least 3 sweeps have a fit with 0 < λ < ∞, the sigmoid β(λ) of eq. 14 (<out>_vary.json).
-template <class Sweep>
-void run_varied(Parameters par, const cli::DriverApp& app, const ensemble::Ranks& ranks, int dimension,
-                const Sweep& sweep) {
+// The sweeps of the --vary values (one without --vary, outputs at --output; else outputs
+// <out>_<vary><value>.*), over every rank; rank 0 writes <out>_vary.csv with the Beverloo parameters
+// against the value and λ = ζ/μ, and <out>_vary.json with the sigmoid β(λ) of eq. 14 when drag or
+// friction is varied and at least 3 sweeps have a fit with 0 < λ < ∞.
+template <class Scene, int D, class SceneParameters, class Make>
+void run_sweeps(Parameters par, const cli::DriverApp& app, const ensemble::Ranks& ranks, int bodies, Make&& make) {
+  if (par.vary.empty()) {
+    run<Scene, D>(std::vector<SweepSpec<SceneParameters>>{{make(par), app.output(), ""}}, par, app, ranks, bodies);
+    return;
+  }
   const bool dissipation = par.vary == "drag" || par.vary == "friction";
-  const auto values = parse_values(par.values, dissipation);
+  const auto values = cli::parse_number_list(
+      par.values, "--values", [dissipation](double v) { return dissipation ? v >= 0 : v > 0; },
+      dissipation ? ">= 0" : "> 0");
   const driver::OutputPaths out(app.output());
   const std::string stem = out.csv.substr(0, out.csv.size() - 4);
-  std::vector<SweepRequest> sweeps;
+  std::vector<SweepSpec<SceneParameters>> sweeps;
   std::vector<double> lambdas;
   for (const double v : values) {
-    set_varied(par, v);
+    hopper::set_varied(par.vary, v, par.scene, par.dp);
     std::ostringstream name, label;
     name << stem << '_' << par.vary << v << ".h5";
     label << "--" << par.vary << " " << v;
-    sweeps.push_back({par, name.str(), label.str()});
+    sweeps.push_back({make(par), name.str(), label.str()});
     lambdas.push_back(par.scene.friction > 0 ? par.scene.drag / par.scene.friction : HUGE_VAL);
   }
-  const std::vector<std::optional<hopper::BeverlooFit>> fits = sweep(sweeps);
+  const auto fits = run<Scene, D>(sweeps, par, app, ranks, bodies);
   if (!ranks.root()) return;  // rank 0 has every sweep's fit
-  std::ofstream csv(stem + "_vary.csv");
-  csv << std::setprecision(10) << par.vary << ",lambda,C,C_error,k,k_error,beta,beta_error,chi2_per_dof\n";
-  std::vector<double> x, beta, beta_error;
-  for (std::size_t j = 0; j < values.size(); ++j) {
-    csv << values[j] << ',' << lambdas[j];
-    if (const auto& f = fits[j]) {
-      csv << ',' << f->C << ',' << f->C_error << ',' << f->k << ',' << f->k_error << ',' << f->beta << ','
-          << f->beta_error << ',' << f->chi2_per_dof << '\n';
-      if (lambdas[j] > 0 && std::isfinite(lambdas[j])) {
-        x.push_back(lambdas[j]);
-        beta.push_back(f->beta);
-        beta_error.push_back(f->beta_error);
-      }
-    } else {
-      csv << ",,,,,,,\n";
-    }
-  }
-  csv.close();
-  std::ofstream json(stem + "_vary.json");
-  json << std::setprecision(10) << "{\n  \"vary\": \"" << par.vary << "\",\n  \"sigmoid\": ";
+  std::vector<double> x, beta, beta_error;  // the fits with 0 < λ < ∞
+  hopper::write_vary_csv(stem + "_vary.csv", par.vary, values, lambdas, fits, x, beta, beta_error);
+  cli::Json json{{"vary", par.vary}, {"sigmoid", nullptr}};
   if (dissipation && x.size() >= 3) {
-    const auto sig = hopper::fit_beta_sigmoid(x, beta, beta_error, dimension);
-    json << "{\"lambda_c\": " << sig.lambda_c << ", \"lambda_c_error\": " << sig.lambda_c_error
-         << ", \"stretch\": " << sig.stretch << ", \"stretch_error\": " << sig.stretch_error
-         << ", \"chi2_per_dof\": " << sig.chi2_per_dof << ", \"points\": " << x.size() << "}\n}\n";
+    const auto sig = hopper::fit_beta_sigmoid(x, beta, beta_error, D);
+    json["sigmoid"] = {{"lambda_c", sig.lambda_c}, {"lambda_c_error", sig.lambda_c_error}, {"stretch", sig.stretch},
+                       {"stretch_error", sig.stretch_error}, {"chi2_per_dof", sig.chi2_per_dof}, {"points", x.size()}};
     if (!app.quiet())
       std::cout << "hopper: β(λ) sigmoid (eq. 14) over " << x.size() << " sweeps: λ_c = " << sig.lambda_c << " ± "
                 << sig.lambda_c_error << ", 1/b = " << sig.stretch << " ± " << sig.stretch_error << "\n";
-  } else {
-    json << "null\n}\n";
   }
+  cli::write_summary(stem + "_vary.json", json);
 }
 
 }  // namespace
@@ -514,39 +302,15 @@ int main(int argc, char** argv) {
     ranks.start();
     mesoflow::KokkosScope kokkos(par.threads);
     const int dim = par.dimension == "2" ? 2 : 3;
-    // The w sweeps of `requests`, each with the parameters as they are in its request, over all ranks.
-    const auto sweep = [&](const std::vector<mesoflow::SweepRequest>& requests) {
-      if (par.model == "dp") {
-        std::vector<mesoflow::SweepSpec<mesoflow::hopper::DpHopperParameters>> sweeps;
-        for (const mesoflow::SweepRequest& request : requests) {
-          const mesoflow::Parameters& p = request.parameters;
-          mesoflow::hopper::DpHopperParameters d = p.dp;
-          d.particles = p.scene.particles;
-          d.hopper_width = p.scene.hopper_width;
-          d.wall_angle = p.scene.wall_angle;
-          d.drag = p.scene.drag;
-          d.friction = p.scene.friction;
-          d.friction_component = p.scene.friction_component;
-          d.seed = p.scene.seed;
-          d.dt = p.dt;
-          d.force_dt = p.scene.force_dt;
-          sweeps.push_back({d, request.output, request.label});
-        }
-        return mesoflow::run<mesoflow::hopper::DpHopperScene<>, 2>(sweeps, par, app, ranks, par.dp.vertices);
-      }
-      std::vector<mesoflow::SweepSpec<mesoflow::hopper::HopperParameters>> sweeps;
-      for (const mesoflow::SweepRequest& request : requests) {
-        const mesoflow::Parameters& p = request.parameters;
-        mesoflow::hopper::HopperParameters sp = p.scene;
-        sp.dt = p.dt > 0 ? p.dt : std::min(1e-3, 0.9 * sp.max_stable_dt(dim));
-        sweeps.push_back({sp, request.output, request.label});
-      }
-      return dim == 2 ? mesoflow::run<mesoflow::hopper::HopperScene<2>, 2>(sweeps, par, app, ranks, 1)
-                      : mesoflow::run<mesoflow::hopper::HopperScene<3>, 3>(sweeps, par, app, ranks, 1);
-    };
-    if (par.vary.empty())
-      sweep({{par, app.output(), ""}});
+    using namespace mesoflow::hopper;
+    if (par.model == "dp")
+      mesoflow::run_sweeps<DpHopperScene<>, 2, DpHopperParameters>(
+          par, app, ranks, par.dp.vertices, [](const mesoflow::Parameters& p) { return polygon_parameters(p.scene, p.dp, p.dt); });
+    else if (dim == 2)
+      mesoflow::run_sweeps<HopperScene<2>, 2, HopperParameters>(
+          par, app, ranks, 1, [](const mesoflow::Parameters& p) { return particle_parameters(p.scene, p.dt, 2); });
     else
-      mesoflow::run_varied(par, app, ranks, dim, sweep);
+      mesoflow::run_sweeps<HopperScene<3>, 3, HopperParameters>(
+          par, app, ranks, 1, [](const mesoflow::Parameters& p) { return particle_parameters(p.scene, p.dt, 3); });
   }));
 }

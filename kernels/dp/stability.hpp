@@ -22,6 +22,12 @@
 // parameters would blow up. The area mode depends on the shape, which a run changes:
 // stability_limit_for_shape re-evaluates it on the measured shape (shape_stiffness.hpp), and
 // DropletScene stops a run whose Δt the current shape no longer allows.
+//
+// Packings of polygons (the hopper, hopper-flows §2.3) add vertex contacts and dissipation between
+// them: contact_stability_limit adds z contacts of stiffness ε_c/δ² per vertex (ω_c² = z ε_c/(δ² m),
+// in quadrature with the shape modes above) and the damping rate ν = z μ/m + ζ/M of friction
+// (hopper eq. 12) and uniform drag (eq. 11), with ν Δt ≤ 2 (the explicit limit of v' = −ν v at
+// λ = ½); dp_hopper_scene.hpp explains z = 3.
 #pragma once
 
 #include <algorithm>
@@ -96,6 +102,59 @@ inline StabilityLimit stability_limit_for_shape(const StiffnessInputs& s, double
   StabilityLimit r = stability_limit(s);
   if (area_gradient_squared > s.perimeter * s.edge_length)
     r.omega_area = std::sqrt(s.area_stiffness * area_gradient_squared / s.vertex_mass);
+  return r;
+}
+
+// The contacts and dissipation of a polygon packing (see the file comment).
+struct ContactStiffnessInputs {
+  int contacts_per_vertex;  // z
+  double contact_energy;    // ε_c (contacts of stiffness ε_c/δ², δ the StiffnessInputs' vertex diameter)
+  double friction;          // μ between contacting vertices
+  double drag;              // ζ on the body of mass body_mass (ζ/N_v per vertex)
+  double body_mass;         // M
+};
+
+struct ContactStabilityLimit {
+  StabilityLimit shape;       // wall, segment, area and bending modes (stability_limit)
+  double omega_contacts = 0;  // √(z ε_c/(δ² m))
+  double friction_rate = 0;   // z μ/m
+  double drag_rate = 0;       // ζ/M
+
+  double omega() const { return std::sqrt(shape.omega() * shape.omega() + omega_contacts * omega_contacts); }
+  double damping_rate() const { return friction_rate + drag_rate; }
+  // Largest Δt with ω Δt ≤ 1 and ν Δt ≤ 2.
+  double max_dt() const {
+    const double w = omega(), nu = damping_rate();
+    return std::min(w > 0 ? 1 / w : HUGE_VAL, nu > 0 ? 2 / nu : HUGE_VAL);
+  }
+  std::string limiting_term() const {
+    if (damping_rate() > 2 * omega())
+      return std::string(friction_rate >= drag_rate ? "friction μ" : "drag ζ") + " (damping rate " +
+             std::to_string(damping_rate()) + "/t0)";
+    const struct {
+      double w;
+      const char* name;
+    } terms[] = {{shape.omega_wall, "wall repulsion E_w"},
+                 {omega_contacts, "contact repulsion E_c"},
+                 {shape.omega_springs, "perimeter elasticity K_l"},
+                 {shape.omega_area, "area elasticity K_a"},
+                 {shape.omega_bending, "bending K_b"}};
+    const auto* top =
+        std::max_element(std::begin(terms), std::end(terms), [](const auto& a, const auto& b) { return a.w < b.w; });
+    return std::string(top->name) + " (ω = " + std::to_string(top->w) + "/t0 of a total " + std::to_string(omega()) +
+           "/t0)";
+  }
+};
+
+// The limit of a polygon packing: the shape modes of `s` (its max_drag is not used: drag enters
+// the damping rate) plus the contacts and dissipation of `c`.
+inline ContactStabilityLimit contact_stability_limit(const StiffnessInputs& s, const ContactStiffnessInputs& c) {
+  ContactStabilityLimit r;
+  r.shape = stability_limit(s);
+  const double m = s.vertex_mass, delta = s.vertex_diameter;
+  r.omega_contacts = std::sqrt(c.contacts_per_vertex * c.contact_energy / (delta * delta * m));
+  r.friction_rate = c.contacts_per_vertex * c.friction / m;
+  r.drag_rate = c.drag / c.body_mass;
   return r;
 }
 

@@ -224,3 +224,118 @@ void run_obstacle_batch(const ObstacleEnsembleParameters& par, const std::vector
 }
 
 }  // namespace mesoflow::droplets
+
+namespace mesoflow::droplets {
+
+// The sweep of the `obstacles` driver: the model and every parameter but the swept pair
+// (strength: Γ for DP, E_w of eq. 8 for SP; the gap w_ob), from which each point's scene follows.
+struct ObstacleSweep {
+  bool soft_particles = false;   // SP model (else DP)
+  int vertices = 64;             // DP: N_v
+  double area_stiffness = 1e4;   // DP: K_a
+  double perimeter_ratio = 0.1;  // DP: K_l/Γ (the paper: 10⁻³; see drivers/droplets/obstacles.cpp)
+  double dp_wall_energy = 0.05;  // DP: E_w of eq. 3
+  double near_wall_drag = 0.0;   // DP: b0/b∞
+  double terminal_speed = 0.08;  // V_t (eq. 15)
+  double dt = 0.0;               // Δt/t0; 0: 10⁻³ or the stability limit if smaller
+  bool force_dt = false;
+  double box_length = 40.0;
+  double obstacle_diameter = 0.3;
+  double obstacle_fraction = 0;
+  double time_limit = 200.0;
+  double clog_threshold = 1e-17;
+  int relax_iterations = 20000;
+  int batch = 16;                // replicas advanced together
+
+  // The scene of the point (strength, gap).
+  ObstacleEnsembleParameters at(double strength, double gap) const {
+    ObstacleEnsembleParameters ens;
+    ens.model = soft_particles ? DropletModel::soft_particle : DropletModel::deformable_polygon;
+    ens.droplet.vertices = vertices;
+    ens.droplet.line_tension = soft_particles ? ens.droplet.line_tension : strength;
+    ens.droplet.area_stiffness = area_stiffness;
+    ens.droplet.perimeter_stiffness = perimeter_ratio * ens.droplet.line_tension;
+    ens.droplet.wall_energy = dp_wall_energy;
+    ens.droplet.near_wall_drag = near_wall_drag;
+    ens.droplet.terminal_speed = terminal_speed;
+    ens.droplet.dt = dt;
+    ens.droplet.force_dt = force_dt;
+    ens.soft.wall_energy = soft_particles ? strength : ens.soft.wall_energy;
+    ens.soft.terminal_speed = terminal_speed;
+    ens.soft.dt = dt;
+    ens.soft.force_dt = force_dt;
+    ens.box_length = box_length;
+    ens.obstacle_diameter = obstacle_diameter;
+    ens.obstacle_fraction = obstacle_fraction;
+    ens.gap = gap;
+    ens.time_limit = time_limit;
+    ens.clog_threshold = clog_threshold;
+    ens.relax_iterations = relax_iterations;
+    return ens;
+  }
+
+  // Refuses a point before any output: its parameters out of range, or a Δt above the stability
+  // limit (std::invalid_argument naming the parameter); returns the point's time step.
+  double check(double strength, double gap) const {
+    check_box(gap);
+    const ObstacleEnsembleParameters ens = at(strength, gap);
+    ens.droplet.validate();
+    ens.soft.validate();
+    return time_step(ens);
+  }
+
+  // The box holds at least 4 obstacle cells (σ_ob + w_ob) a side and 10σ.
+  void check_box(double gap) const {
+    if (box_length < 4 * (obstacle_diameter + gap) || box_length < 10)
+      throw std::invalid_argument("--box-length: must be >= 4 (sigma_ob + w_ob) = " +
+                                  std::to_string(4 * (obstacle_diameter + gap)) + " for --gap " + std::to_string(gap));
+  }
+
+  static double time_step(const ObstacleEnsembleParameters& ens) {
+    return ens.model == DropletModel::soft_particle ? resolve_time_step(ens.soft) : resolve_time_step(ens.droplet, true);
+  }
+  // Particle updates per replica-step: N_v vertices (DP) or one disk (SP).
+  int bodies() const { return soft_particles ? 1 : vertices; }
+};
+
+// Runs the replicas `todo[p]` of each point p of `strengths × gaps` (points[p] = {strength, gap})
+// in batches of sweep.batch, replica j with the obstacle array of replica_seed(seed, j).
+// on_batch(p, replicas, steps) before a batch of `steps` steps; on_finished(p, replica, seed, record)
+// as a replica finishes; on_steps(steps) every few hundred steps. Returns the steps run, and the
+// replica-steps (steps × replicas, summed over batches).
+struct SweepSteps {
+  long long steps = 0, replica_steps = 0;
+};
+template <class Real = double, class OnBatch, class OnFinished, class OnSteps>
+SweepSteps run_sweep_points(const ObstacleSweep& sweep, const std::vector<std::pair<double, double>>& points,
+                           const std::vector<std::vector<int>>& todo, std::uint64_t seed, OnBatch&& on_batch,
+                           OnFinished&& on_finished, OnSteps&& on_steps) {
+  SweepSteps run;
+  for (std::size_t p = 0; p < points.size(); ++p) {
+    const ObstacleEnsembleParameters ens = sweep.at(points[p].first, points[p].second);
+    const std::vector<int>& pending = todo[p];
+    for (std::size_t first = 0; first < pending.size(); first += std::size_t(sweep.batch)) {
+      const std::vector<int> batch(pending.begin() + std::ptrdiff_t(first),
+                                   pending.begin() + std::ptrdiff_t(std::min(pending.size(), first + std::size_t(sweep.batch))));
+      std::vector<std::uint64_t> seeds;
+      for (const int j : batch) seeds.push_back(replica_seed(seed, j));
+      const long long batch_steps = static_cast<long long>(std::ceil(sweep.time_limit / ObstacleSweep::time_step(ens)));
+      on_batch(p, batch, batch_steps);
+      long long last_steps = 0;
+      run_obstacle_batch<Real>(
+          ens, seeds,
+          [&](int k, const ReplicaRecord& record) {
+            on_finished(p, batch[std::size_t(k)], seeds[std::size_t(k)], record);
+          },
+          [&](long long steps) {
+            last_steps = steps;
+            on_steps(std::min(steps, batch_steps));
+          });
+      run.steps += last_steps;
+      run.replica_steps += last_steps * (long long)(batch.size());
+    }
+  }
+  return run;
+}
+
+}  // namespace mesoflow::droplets

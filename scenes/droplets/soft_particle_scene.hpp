@@ -19,11 +19,13 @@
 #pragma once
 
 #include "scenes/common/nan_watchdog.hpp"
+#include "scenes/common/term_list.hpp"
 #include "scenes/droplets/droplet_scene.hpp"
 #include "kernels/common/fire.hpp"
 #include "kernels/common/obstacle_array.hpp"
 #include "kernels/common/surface_force.hpp"
 #include "kernels/common/velocity_verlet.hpp"
+#include "kernels/sp/gravity.hpp"
 #include "kernels/sp/obstacle_repulsion.hpp"
 #include "kernels/sp/viscous_drag.hpp"
 
@@ -110,7 +112,11 @@ class SoftParticleScene {
     Kokkos::deep_copy(p_.mass, Real(droplet_mass));
     const double angle = par.gravity_angle * dp::pi / 180.0;
     gravity_ = Vec<2, Real>{{Real(std::cos(angle)), Real(std::sin(angle))}};
+    declare_terms();
   }
+  // The term list's launches hold `this`: a scene stays where it was built.
+  SoftParticleScene(const SoftParticleScene&) = delete;
+  SoftParticleScene& operator=(const SoftParticleScene&) = delete;
 
   // Minimizes eq. 8's energy by FIRE without gravity or drag: removes the overlaps with the
   // obstacles that the initial placement leaves (§2.4).
@@ -128,16 +134,12 @@ class SoftParticleScene {
   // f ← the forces a step evaluates (gravity, eq. 8, eq. 10) at the current positions and
   // velocities, which velocity Verlet's next half kick uses: call after changing the state outside
   // step() (relax() does; so must whoever places droplets with place_droplet()).
-  void compute_step_forces() {
-    gravity_forces(true);
-    obstacle_forces(p_.v, Real(b_inf_));
-  }
+  void compute_step_forces() { terms_.evaluate(p_.v); }
 
-  // One modified velocity-Verlet step: gravity, eq. 8 and eq. 10.
+  // One modified velocity-Verlet step: gravity, eq. 8 and eq. 10 (the term list, declare_terms()).
   void step() {
     vv_.first_half(p_);
-    gravity_forces(true);
-    obstacle_forces(vv_.velocity_for_forces(p_), Real(b_inf_));
+    terms_.evaluate(vv_.velocity_for_forces(p_));
     vv_.second_half(p_);
     ++steps_;
   }
@@ -167,28 +169,26 @@ class SoftParticleScene {
   }
 
   // The NaN watchdog's view of the scene (scenes/common/nan_watchdog.hpp): x, v, f and the step
-  // counter; gravity, eq. 8's repulsion and eq. 10's drag alone. The scene must outlive it.
+  // counter; each term of the term list alone. The scene must outlive it.
   watchdog::Watched watched() {
     watchdog::Watched w = watchdog::watch_particles(p_);
     w.step = [this] { step(); };
     w.steps = [this] { return steps_; };
     w.set_steps = [this](long long s) { steps_ = s; };
-    w.terms = {{"gravity", [this] { gravity_forces(true); }},
-               {"obstacle repulsion E_sp (eq. 8)", [this] {
-                  p_.zero_forces();
-                  obstacle_forces(p_.v, Real(0));
-                }},
-               {"drag b∞ (eq. 10)",
-                [this] {
-                  p_.zero_forces();
-                  accumulate_surface_forces(ParticleArraySurfaces<Real, ExecSpace>{surfaces_, array_}, p_, p_.v,
-                                            sp::ObstacleRepulsion<Real>(Real(0), Real(1)),
-                                            sp::ViscousDrag<Real>(Real(b_inf_)));
-                },
-                true}};
+    w.terms = terms_.watchdog_terms();
     w.particle = [](long long i) { return "droplet " + std::to_string(i); };
     return w;
   }
+
+  // The scene's components: the droplets, the obstacles and the launches of a step with their terms.
+  std::vector<std::string> components() const {
+    std::vector<std::string> c{std::to_string(p_.size()) + " soft-particle droplet(s)"};
+    if (surfaces_.obstacles().size() > 0) c.push_back(std::to_string(surfaces_.obstacles().size()) + " obstacles");
+    for (auto& line : terms_.components()) c.push_back(std::move(line));
+    return c;
+  }
+
+  const scene::TermList<const typename particles_type::vector_view&>& terms() const { return terms_; }
 
   const particles_type& particles() const { return p_; }
   const SoftParticleParameters& parameters() const { return par_; }
@@ -198,6 +198,27 @@ class SoftParticleScene {
   double far_drag() const { return b_inf_; }
 
  private:
+  // The scene's terms, declared once: the step, the watchdog and the summaries read this list.
+  // Two launches: gravity (sets f, so it clears the last step's forces) and the obstacle loop (one
+  // pass over the obstacles near each droplet serves eq. 8, summed, and eq. 10's drag).
+  void declare_terms() {
+    using vector_view = typename particles_type::vector_view;
+    terms_.term({"gravity", "eq. 4", false, true, [this] { gravity_forces(true); }});
+    terms_.term({"obstacle repulsion E_sp", "eq. 8", false, par_.wall_energy != 0, [this] {
+                   p_.zero_forces();
+                   obstacle_forces(p_.v, Real(0));
+                 }});
+    terms_.term({"drag b∞", "eq. 10", true, true, [this] {
+                   p_.zero_forces();
+                   accumulate_surface_forces(ParticleArraySurfaces<Real, ExecSpace>{surfaces_, array_}, p_, p_.v,
+                                             sp::ObstacleRepulsion<Real>(Real(0), Real(1)),
+                                             sp::ViscousDrag<Real>(Real(b_inf_)));
+                 }});
+    terms_.launch("gravity (one kernel)", {"gravity"}, [this](const vector_view&) { gravity_forces(true); });
+    terms_.launch("obstacle loop (one kernel)", {"obstacle repulsion E_sp", "drag b∞"},
+                  [this](const vector_view& u) { obstacle_forces(u, Real(b_inf_)); });
+  }
+
   // f += eq. 8 summed over every obstacle of the droplet's array that it overlaps, and the drag of
   // eq. 10 with coefficient `drag` at velocity `velocity`; returns eq. 8's energy.
   double obstacle_forces(const typename particles_type::vector_view& velocity, Real drag_coefficient) {
@@ -206,19 +227,11 @@ class SoftParticleScene {
                                      sp::ViscousDrag<Real>(drag_coefficient));
   }
 
- public:  // a kernel: nvcc rejects a KOKKOS_LAMBDA in a private member function
-  // f ← M g (or 0).
+  // f ← M g (or 0): kernels/sp/gravity.hpp.
   void gravity_forces(bool with_gravity) {
-    const auto f = p_.f;
-    const auto m = p_.mass;
-    const Vec<2, Real> g = with_gravity ? gravity_ : Vec<2, Real>::zero();
-    Kokkos::parallel_for(
-        "mesoflow::soft_particle_scene::gravity", Kokkos::RangePolicy<ExecSpace>(0, p_.size()), KOKKOS_LAMBDA(int i) {
-          for (int d = 0; d < 2; ++d) f(i, d) = m(i) * g[d];
-        });
+    sp::set_gravity_forces(p_, with_gravity ? gravity_ : Vec<2, Real>::zero());
   }
 
- private:
   SoftParticleParameters par_;
   double dt_;
   Surfaces<Real, ExecSpace> surfaces_;
@@ -227,6 +240,7 @@ class SoftParticleScene {
   Kokkos::View<int*, ExecSpace> array_;
   double b_inf_;
   Vec<2, Real> gravity_;
+  scene::TermList<const typename particles_type::vector_view&> terms_;
   long long steps_ = 0;
 };
 

@@ -38,7 +38,8 @@
 // vertices of a body contiguous and in order, which a cell-order permutation of vertices breaks; each
 // polygon's own 16 vertices stay together, which keeps the shape loop local.
 //
-// Continuous flow (§2.4), every `detect_every` steps: one parallel_reduce over polygons, on the
+// Continuous flow (§2.4; scenes/hopper/recycling.hpp, shared with the SP hopper), every
+// `detect_every` steps: one parallel_reduce over polygons, on the
 // centroids (centres of mass) of the step's BodyState, marks polygons whose centroid first passes
 // below the orifice plane (height 0), adding a_m,0 to the crossed area, and counts those whose
 // centroid is more than 2σ_avg below it. Only when that count is nonzero are positions and velocities
@@ -68,6 +69,7 @@
 #include "kernels/dp/segment_spring_force.hpp"
 #include "kernels/dp/shape_forces.hpp"
 #include "kernels/dp/smooth_vertex_contacts.hpp"
+#include "scenes/common/term_list.hpp"
 #include "scenes/common/time_step_limit.hpp"
 #include "kernels/dp/stability.hpp"
 #include "kernels/dp/vertex_contacts.hpp"
@@ -90,38 +92,8 @@ constexpr double dp_auto_dt_fraction = 0.9;  // dt = 0: this fraction of the lim
 constexpr double dp_skin_fraction = 0.3;     // neighbor-list skin / l_l,0
 constexpr double dp_smooth_reach = 1.5;      // smooth list cutoff: this × l_l,0 + δ_l (edges stretch)
 
-// The explicit time-step limit of the DP hopper, term by term (see the file comment).
-struct DpHopperStability {
-  dp::StabilityLimit shape;   // wall, segment, area and bending modes (kernels/dp/stability.hpp)
-  double omega_contacts = 0;  // √(z ε_c/(δ_s² m_s))
-  double friction_rate = 0;   // z μ/m_s
-  double drag_rate = 0;       // ζ/M_s
-
-  double omega() const { return std::sqrt(shape.omega() * shape.omega() + omega_contacts * omega_contacts); }
-  double damping_rate() const { return friction_rate + drag_rate; }
-  // Largest Δt with ω Δt ≤ 1 and ν Δt ≤ 2.
-  double max_dt() const {
-    const double w = omega(), nu = damping_rate();
-    return std::min(w > 0 ? 1 / w : HUGE_VAL, nu > 0 ? 2 / nu : HUGE_VAL);
-  }
-  std::string limiting_term() const {
-    if (damping_rate() > 2 * omega())
-      return std::string(friction_rate >= drag_rate ? "friction μ" : "drag ζ") + " (damping rate " +
-             std::to_string(damping_rate()) + "/t0)";
-    const struct {
-      double w;
-      const char* name;
-    } terms[] = {{shape.omega_wall, "wall repulsion E_w"},
-                 {omega_contacts, "contact repulsion E_c"},
-                 {shape.omega_springs, "perimeter elasticity K_l"},
-                 {shape.omega_area, "area elasticity K_a"},
-                 {shape.omega_bending, "bending K_b"}};
-    const auto* top =
-        std::max_element(std::begin(terms), std::end(terms), [](const auto& a, const auto& b) { return a.w < b.w; });
-    return std::string(top->name) + " (ω = " + std::to_string(top->w) + "/t0 of a total " + std::to_string(omega()) +
-           "/t0)";
-  }
-};
+// The explicit time-step limit of the DP hopper, term by term: kernels/dp/stability.hpp.
+using DpHopperStability = dp::ContactStabilityLimit;
 
 struct DpHopperParameters {
   int particles = 300;               // N polygons, half small, half large
@@ -161,13 +133,9 @@ struct DpHopperParameters {
     s.perimeter_stiffness = perimeter_stiffness;
     s.area_stiffness = area_stiffness;
     s.bending_stiffness = bending_stiffness;
-    s.max_drag = 0;  // drag and friction: ν Δt ≤ 2 below
-    DpHopperStability r;
-    r.shape = dp::stability_limit(s);
-    r.omega_contacts = std::sqrt(dp_contacts_per_vertex * contact_energy / (delta * delta * m));
-    r.friction_rate = dp_contacts_per_vertex * friction / m;
-    r.drag_rate = drag / preferred_area(0);
-    return r;
+    s.max_drag = 0;  // drag and friction: ν Δt ≤ 2 in the contact limit
+    return dp::contact_stability_limit(s, dp::ContactStiffnessInputs{dp_contacts_per_vertex, contact_energy, friction,
+                                                                      drag, preferred_area(0)});
   }
 
   // The time step a scene runs with: dt, or min(10⁻³, 0.9 × limit) for dt = 0.
@@ -227,13 +195,17 @@ class DpHopperScene {
         p_(std::size_t(par.particles) * std::size_t(par.vertices), "dp_hopper"),
         outside_("mesoflow::dp_hopper::outside", std::size_t(par.particles)),
         wall_candidates_("mesoflow::dp_hopper::wall_candidates", p_.size()),
-        rng_(par.seed ^ 0x9e3779b97f4a7c15ULL) {
+        recycler_(par.seed) {
     dp::assign_bodies(polygons_, p_);
     x_host_ = Kokkos::create_mirror_view(p_.x);
     v_host_ = Kokkos::create_mirror_view(p_.v);
     outside_host_ = Kokkos::create_mirror_view(outside_);
     place_randomly();
+    declare_terms();
   }
+  // The term list's launches hold `this`: a scene stays where it was built.
+  DpHopperScene(const DpHopperScene&) = delete;
+  DpHopperScene& operator=(const DpHopperScene&) = delete;
 
   // FIRE without gravity or dissipation: removes the overlaps of the random placement (§2.4).
   FireResult relax(int max_iterations = 20000) {
@@ -254,21 +226,7 @@ class DpHopperScene {
   void step() {
     vv_.first_half(p_);
     maintain_neighbors();
-    const auto velocity = vv_.velocity_for_forces(p_);
-    p_.zero_forces();
-    dp::update_body_state(polygons_, p_, state_);
-    shape_forces(gravity_on_);
-    if (par_.smooth) {
-      dp::accumulate_smooth_vertex_contacts(contacts_, polygons_, p_, list_, box_);
-    } else {
-      // eq. 9 through the generic pair loop's dynamically scheduled force-only pass (the step needs no
-      // energy); dp::accumulate_vertex_contacts is the same loop with an energy reduction.
-      dp::require_same_body_exclusion(list_);
-      pair_.accumulate_forces(contacts_, p_, list_, box_);
-    }
-    dp::accumulate_vertex_friction(Real(par_.friction), contacts_, p_, velocity, list_, box_, par_.friction_component);
-    sp::accumulate_wall_repulsion(Real(par_.wall_energy), contacts_, walls_, p_, wall_candidates_);
-    dp::accumulate_vertex_drag(Real(par_.drag), polygons_, p_, velocity);
+    terms_.evaluate(vv_.velocity_for_forces(p_));
     vv_.second_half(p_);
     ++steps_;
     if (steps_ % detect_every == 0) detect_crossings();
@@ -320,10 +278,7 @@ class DpHopperScene {
     w.steps = [this] { return steps_; };
     w.set_steps = [this](long long s) { steps_ = s; };
     struct HostState {
-      std::mt19937_64 rng;
-      long long crossings = 0, insertions = 0, last_recycling_step = -1;
-      double crossed = 0, last_crossing_time = 0, max_insertion_overlap = 0;
-      std::vector<int> last_inserted;
+      Recycler::State recycling;
       bool listed = false;                                   // the list had been built
       typename particles_type::vector_view reference;        // its reference positions
     };
@@ -331,73 +286,18 @@ class DpHopperScene {
     saved->reference = typename particles_type::vector_view(
         Kokkos::view_alloc(Kokkos::WithoutInitializing, "mesoflow::dp_hopper::watchdog_reference"), p_.size());
     w.save_host = [this, saved] {
-      saved->rng = rng_;
-      saved->crossings = crossings_;
-      saved->insertions = insertions_;
-      saved->last_recycling_step = last_recycling_step_;
-      saved->crossed = crossed_;
-      saved->last_crossing_time = last_crossing_time_;
-      saved->max_insertion_overlap = max_insertion_overlap_;
-      saved->last_inserted = last_inserted_;
+      saved->recycling = recycler_.state();
       saved->listed = list_.num_builds() > 0;
       if (saved->listed) copy_field(saved->reference, list_.reference_positions(), "mesoflow::watchdog::save");
     };
-    w.restore_host = [this, saved] {
-      rng_ = saved->rng;
-      crossings_ = saved->crossings;
-      insertions_ = saved->insertions;
-      last_recycling_step_ = saved->last_recycling_step;
-      crossed_ = saved->crossed;
-      last_crossing_time_ = saved->last_crossing_time;
-      max_insertion_overlap_ = saved->max_insertion_overlap;
-      last_inserted_ = saved->last_inserted;
-    };
+    w.restore_host = [this, saved] { recycler_.restore(saved->recycling); };
     w.after_restore = [this, saved] {
       if (!saved->listed) return;  // the next step builds it, as it would have
       particles_type at_reference = p_;
       at_reference.x = saved->reference;
       list_.build(at_reference, box_);
     };
-    const auto alone = [this](auto add) {
-      return [this, add] {
-        p_.zero_forces();
-        add();
-      };
-    };
-    const auto shape_term = [this](auto term) {
-      return [this, term] {
-        p_.zero_forces();
-        dp::update_body_state(polygons_, p_, state_);
-        dp::accumulate_shape_forces(polygons_, state_, p_, term);
-      };
-    };
-    w.terms = {
-        {"gravity", shape_term(dp::Gravity<Real>{Vec<2, Real>{{Real(0), gravity_on_ ? Real(-1) : Real(0)}}})},
-        {"area elasticity K_a (eq. 8)", shape_term(dp::AreaElasticity<Real>{Real(par_.area_stiffness)})},
-        {"segment springs K_l (eq. 8)", shape_term(dp::SegmentSprings<Real>{Real(par_.perimeter_stiffness)})}};
-    if (par_.bending_stiffness > 0)
-      w.terms.push_back({"bending K_b (eq. 8)", shape_term(dp::Bending<Real>{Real(par_.bending_stiffness)})});
-    if (par_.smooth)
-      w.terms.push_back({"smooth vertex contacts E_c (eq. 9, Appendix A)", alone([this] {
-                           dp::accumulate_smooth_vertex_contacts(contacts_, polygons_, p_, list_, box_);
-                         })});
-    else
-      w.terms.push_back(
-          {"vertex contacts E_c (eq. 9)", alone([this] { pair_.accumulate_forces(contacts_, p_, list_, box_); })});
-    w.terms.push_back({"vertex–wall repulsion E_w (eq. 10)", alone([this] {
-                         sp::accumulate_wall_repulsion(Real(par_.wall_energy), contacts_, walls_, p_, wall_candidates_);
-                       })});
-    if (par_.friction > 0)
-      w.terms.push_back({"kinetic friction μ (eq. 12)", alone([this] {
-                           dp::accumulate_vertex_friction(Real(par_.friction), contacts_, p_, p_.v, list_, box_,
-                                                           par_.friction_component);
-                         }),
-                         true});
-    if (par_.drag > 0)
-      w.terms.push_back({"vertex drag ζ (eq. 11)", alone([this] {
-                           dp::accumulate_vertex_drag(Real(par_.drag), polygons_, p_, p_.v);
-                         }),
-                         true});
+    w.terms = terms_.watchdog_terms();
     const int nv = par_.vertices;
     w.particle = [nv](long long i) {
       const long long b = i / nv;
@@ -406,6 +306,16 @@ class DpHopperScene {
     };
     return w;
   }
+
+  // The scene's components: polygons, walls and the launches of a step with their terms.
+  std::vector<std::string> components() const {
+    std::vector<std::string> c{std::to_string(par_.particles) + " deformable polygons of " +
+                                   std::to_string(par_.vertices) + " vertices (bidisperse)",
+                               std::to_string(shapes_.size()) + " walls (candidate walls per vertex)"};
+    for (auto& line : terms_.components()) c.push_back(std::move(line));
+    return c;
+  }
+  const scene::TermList<const typename particles_type::vector_view&>& terms() const { return terms_; }
 
   const particles_type& particles() const { return p_; }
   const dp::Polygons<Real, ExecSpace>& polygons() const { return polygons_; }
@@ -416,13 +326,13 @@ class DpHopperScene {
   long long steps() const { return steps_; }
   double time() const { return double(steps_) * dt_; }
   double dt() const { return dt_; }
-  double crossed_measure() const { return crossed_; }  // area out of the orifice
-  long long crossings() const { return crossings_; }
-  double last_crossing_time() const { return last_crossing_time_; }
-  long long insertions() const { return insertions_; }
-  const std::vector<int>& last_inserted() const { return last_inserted_; }  // polygons of the latest recycling
-  long long last_recycling_step() const { return last_recycling_step_; }
-  double max_insertion_overlap() const { return max_insertion_overlap_; }   // over all insertions
+  double crossed_measure() const { return recycler_.state().crossed; }  // area out of the orifice
+  long long crossings() const { return recycler_.state().crossings; }
+  double last_crossing_time() const { return recycler_.state().last_crossing_time; }
+  long long insertions() const { return recycler_.state().insertions; }
+  const std::vector<int>& last_inserted() const { return recycler_.state().last_inserted; }  // polygons of the latest recycling
+  long long last_recycling_step() const { return recycler_.state().last_recycling_step; }
+  double max_insertion_overlap() const { return recycler_.state().max_insertion_overlap; }  // over all insertions
 
  private:
   // FIRE stops at max |F_i| < 10⁻³ E_c: contact overlaps ξ below ~2·10⁻⁴ δ (F = ε_c ξ/δ), wall
@@ -437,6 +347,74 @@ class DpHopperScene {
       l0[b] = Real(par.edge_length(int(b % 2)));
     }
     return dp::Polygons<Real, ExecSpace>::from_vertex_counts(counts, a0, l0);
+  }
+
+  // The scene's terms, declared once: the step, the watchdog and the summaries read this list.
+  // Launches in the step's order: the shape loop (zeroes f; area, segment springs, bending at
+  // K_b > 0 and gravity, one kernel), the contacts (rough: the generic pair loop; smooth: the
+  // circulo-line loop), friction and wall repulsion, drag; friction and drag at the half-step velocity.
+  void declare_terms() {
+    using vector_view = typename particles_type::vector_view;
+    const auto alone = [this](auto add) {
+      return [this, add] {
+        p_.zero_forces();
+        add();
+      };
+    };
+    const auto shape_term = [this](auto term) {
+      return [this, term] {
+        p_.zero_forces();
+        dp::update_body_state(polygons_, p_, state_);
+        dp::accumulate_shape_forces(polygons_, state_, p_, term);
+      };
+    };
+    const char* rough = "vertex contacts E_c";
+    const char* smooth = "smooth vertex contacts E_c";
+    terms_.term({"gravity", "eq. 4", false, true, [this, shape_term] {
+                   shape_term(dp::Gravity<Real>{Vec<2, Real>{{Real(0), gravity_on_ ? Real(-1) : Real(0)}}})();
+                 }});
+    terms_.term({"area elasticity K_a", "eq. 8", false, true,
+                 shape_term(dp::AreaElasticity<Real>{Real(par_.area_stiffness)})});
+    terms_.term({"segment springs K_l", "eq. 8", false, true,
+                 shape_term(dp::SegmentSprings<Real>{Real(par_.perimeter_stiffness)})});
+    terms_.term({"bending K_b", "eq. 8", false, par_.bending_stiffness > 0,
+                 shape_term(dp::Bending<Real>{Real(par_.bending_stiffness)})});
+    terms_.term({rough, "eq. 9", false, !par_.smooth,
+                 alone([this] { pair_.accumulate_forces(contacts_, p_, list_, box_); })});
+    terms_.term({smooth, "eq. 9, Appendix A", false, par_.smooth,
+                 alone([this] { dp::accumulate_smooth_vertex_contacts(contacts_, polygons_, p_, list_, box_); })});
+    terms_.term({"vertex–wall repulsion E_w", "eq. 10", false, par_.wall_energy != 0, alone([this] {
+                   sp::accumulate_wall_repulsion(Real(par_.wall_energy), contacts_, walls_, p_, wall_candidates_);
+                 })});
+    terms_.term({"kinetic friction μ", "eq. 12", true, par_.friction > 0, alone([this] {
+                   dp::accumulate_vertex_friction(Real(par_.friction), contacts_, p_, p_.v, list_, box_,
+                                                  par_.friction_component);
+                 })});
+    terms_.term({"vertex drag ζ", "eq. 11", true, par_.drag > 0,
+                 alone([this] { dp::accumulate_vertex_drag(Real(par_.drag), polygons_, p_, p_.v); })});
+    terms_.launch("shape loop (one kernel)",
+                  {"area elasticity K_a", "segment springs K_l", "bending K_b", "gravity"}, [this](const vector_view&) {
+                    p_.zero_forces();
+                    dp::update_body_state(polygons_, p_, state_);
+                    shape_forces(gravity_on_);
+                  });
+    // eq. 9 through the generic pair loop's dynamically scheduled force-only pass (the step needs no
+    // energy); dp::accumulate_vertex_contacts is the same loop with an energy reduction.
+    terms_.launch("contact loop (full neighbor list, same polygon excluded)", {rough}, [this](const vector_view&) {
+      dp::require_same_body_exclusion(list_);
+      pair_.accumulate_forces(contacts_, p_, list_, box_);
+    });
+    terms_.launch("circulo-line contact loop (full neighbor list)", {smooth}, [this](const vector_view&) {
+      dp::accumulate_smooth_vertex_contacts(contacts_, polygons_, p_, list_, box_);
+    });
+    terms_.launch("friction loop (full neighbor list)", {"kinetic friction μ"}, [this](const vector_view& u) {
+      dp::accumulate_vertex_friction(Real(par_.friction), contacts_, p_, u, list_, box_, par_.friction_component);
+    });
+    terms_.launch("wall loop (candidate walls)", {"vertex–wall repulsion E_w"}, [this](const vector_view&) {
+      sp::accumulate_wall_repulsion(Real(par_.wall_energy), contacts_, walls_, p_, wall_candidates_);
+    });
+    terms_.launch("drag (one kernel)", {"vertex drag ζ"},
+                  [this](const vector_view& u) { dp::accumulate_vertex_drag(Real(par_.drag), polygons_, p_, u); });
   }
 
   int type_of(int body) const { return body % 2; }
@@ -540,28 +518,19 @@ class DpHopperScene {
   }
 
  public:  // kernels below: nvcc rejects a KOKKOS_LAMBDA in a private member function
-  // Marks first passages of centroids below the orifice plane, sums their a_m,0, counts polygons to recycle.
+  // A polygon's centroid height (of the step's BodyState) and preferred area, for count_crossings.
+  struct CrossingBody {
+    typename dp::BodyState<Real, ExecSpace>::vector_view com;
+    Kokkos::View<Real*, ExecSpace> a0;
+    KOKKOS_INLINE_FUNCTION Real height(int b) const { return com(b, 1); }
+    KOKKOS_INLINE_FUNCTION double measure(int b) const { return double(a0(b)); }
+  };
+
+  // Marks first passages of centroids below the orifice plane, sums their a_m,0, recycles when needed.
   void detect_crossings() {
-    const auto com = state_.com;
-    const auto a0 = polygons_.a0;
-    const auto outside = outside_;
-    const Real depth = Real(-recycle_depth);
-    const auto sums = parallel_sum<3, ExecSpace>(
-        "mesoflow::dp_hopper::detect_crossings", par_.particles, KOKKOS_LAMBDA(int b, double(&acc)[3]) {
-          const Real h = com(b, 1);
-          if (outside(b) == 0 && h < Real(0)) {
-            outside(b) = 1;
-            acc[0] += double(a0(b));
-            acc[1] += 1;
-          }
-          if (h < depth) acc[2] += 1;
-        });
-    if (sums[1] > 0) {
-      crossed_ += sums[0];
-      crossings_ += (long long)(sums[1]);
-      last_crossing_time_ = time();
-    }
-    if (sums[2] > 0) recycle();
+    const auto sums = count_crossings<Real>("mesoflow::dp_hopper::detect_crossings", par_.particles, outside_,
+                                            CrossingBody{state_.com, polygons_.a0});
+    if (recycler_.record_crossings(sums, time())) recycle();
   }
 
   // Centroid, centroid velocity and circumradius about the centroid of a polygon, from the host copies.
@@ -673,61 +642,39 @@ class DpHopperScene {
     const int n = par_.particles;
     std::vector<HostBody> bodies(static_cast<std::size_t>(n));
     for (int b = 0; b < n; ++b) bodies[b] = host_body(b);
-    last_inserted_.clear();
+    std::vector<int> below;
     for (int b = 0; b < n; ++b)
-      if (bodies[b].com[1] < -recycle_depth) last_inserted_.push_back(b);
-    std::vector<V> dirs;
-    for (int tilt = 0; tilt <= 6; ++tilt) {
-      const double a = tilt * pi / 12;
-      dirs.push_back(V{{std::sin(a), std::cos(a)}});
-      if (tilt > 0) dirs.push_back(V{{-std::sin(a), std::cos(a)}});
-    }
-    const double r = 0.5 * par_.hopper_width - 0.5 * sigma_large;
-    std::uniform_real_distribution<double> u(-1, 1);
+      if (bodies[b].com[1] < -recycle_depth) below.push_back(b);
+    const auto anchor = [&](int k) {
+      return Recycler::Anchor{outside_host_(k) == 0 && !(bodies[k].com[1] < -recycle_depth), {bodies[k].com[0], 0},
+                              bodies[k].com[1]};
+    };
+    // Polygon i translated rigidly, its centroid at R_i + R_j + δ_ij from anchor j's; every vertex
+    // takes the anchor's centroid velocity.
     std::vector<V> shape(static_cast<std::size_t>(nv()));
-    for (const int i : last_inserted_) {
-      const double target = r * u(rng_);
-      // Anchors: bulk polygons (inside the hopper, not awaiting re-insertion), those within σ_avg of
-      // the target laterally first, each group highest first.
-      std::vector<std::pair<double, int>> order;
-      for (int k = 0; k < n; ++k) {
-        if (outside_host_(k) != 0 || bodies[k].com[1] < -recycle_depth) continue;
-        order.emplace_back((std::abs(bodies[k].com[0] - target) < 1 ? 1e9 : 0) + bodies[k].com[1], k);
-      }
-      std::sort(order.begin(), order.end(), [](const auto& a, const auto& b) {
-        return a.first != b.first ? a.first > b.first : a.second < b.second;
-      });
+    const auto try_place = [&](int i, int j, const V& dir) -> std::optional<double> {
       const int begin = polygons_.first_vertex(i);
-      bool placed = false;
-      for (const auto& [key, j] : order) {
-        const double s = bodies[i].radius + bodies[j].radius + double(contacts_.contact[type_of(i)][type_of(j)]);
-        for (const auto& dir : dirs) {
-          const V c{{bodies[j].com[0] + s * dir[0], bodies[j].com[1] + s * dir[1]}};
-          for (int k = 0; k < nv(); ++k)
-            for (int d = 0; d < 2; ++d) shape[k][d] = c[d] + double(x_host_(begin + k, d)) - bodies[i].com[d];
-          const double overlap = overlap_at(i, shape, c, bodies[i].radius, bodies);
-          if (overlap > contact_tolerance) continue;
-          for (int k = 0; k < nv(); ++k)
-            for (int d = 0; d < 2; ++d) {
-              x_host_(begin + k, d) = Real(shape[k][d]);
-              v_host_(begin + k, d) = Real(bodies[j].velocity[d]);
-            }
-          bodies[i].com = c;
-          bodies[i].velocity = bodies[j].velocity;
-          outside_host_(i) = 0;
-          max_insertion_overlap_ = std::max(max_insertion_overlap_, overlap);
-          placed = true;
-          break;
+      const double s = bodies[i].radius + bodies[j].radius + double(contacts_.contact[type_of(i)][type_of(j)]);
+      const V c{{bodies[j].com[0] + s * dir[0], bodies[j].com[1] + s * dir[1]}};
+      for (int k = 0; k < nv(); ++k)
+        for (int d = 0; d < 2; ++d) shape[k][d] = c[d] + double(x_host_(begin + k, d)) - bodies[i].com[d];
+      const double overlap = overlap_at(i, shape, c, bodies[i].radius, bodies);
+      if (overlap > contact_tolerance) return std::nullopt;
+      for (int k = 0; k < nv(); ++k)
+        for (int d = 0; d < 2; ++d) {
+          x_host_(begin + k, d) = Real(shape[k][d]);
+          v_host_(begin + k, d) = Real(bodies[j].velocity[d]);
         }
-        if (placed) break;
-      }
-      if (!placed) throw std::runtime_error("dp hopper scene: no place to re-insert polygon " + std::to_string(i));
-      ++insertions_;
-    }
+      bodies[i].com = c;
+      bodies[i].velocity = bodies[j].velocity;
+      outside_host_(i) = 0;
+      return overlap;
+    };
+    recycler_.reinsert<2>(below, 0.5 * par_.hopper_width - 0.5 * sigma_large, n, anchor, try_place,
+                          "dp hopper scene: no place to re-insert polygon ", steps_);
     Kokkos::deep_copy(p_.x, x_host_);
     Kokkos::deep_copy(p_.v, v_host_);
     Kokkos::deep_copy(outside_, outside_host_);
-    last_recycling_step_ = steps_;
   }
 
   DpHopperParameters par_;
@@ -746,11 +693,10 @@ class DpHopperScene {
   Kokkos::View<unsigned*, ExecSpace> wall_candidates_;
   typename particles_type::vector_view::HostMirror x_host_, v_host_;
   typename Kokkos::View<int*, ExecSpace>::HostMirror outside_host_;
-  std::mt19937_64 rng_;
+  Recycler recycler_;  // the continuous flow's counters and RNG (recycling.hpp)
+  scene::TermList<const typename particles_type::vector_view&> terms_;
   bool gravity_on_ = true;
-  long long steps_ = 0, crossings_ = 0, insertions_ = 0, last_recycling_step_ = -1;
-  double crossed_ = 0, last_crossing_time_ = 0, max_insertion_overlap_ = 0;
-  std::vector<int> last_inserted_;
+  long long steps_ = 0;
 };
 
 }  // namespace mesoflow::hopper

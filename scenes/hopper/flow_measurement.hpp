@@ -5,14 +5,13 @@
 // Steady state: the first window n ≥ 2M (M = steady_windows) where the means of the last M rates and
 // of the M before them differ by at most twice the standard error of that difference (the running Q
 // has stopped drifting beyond its noise) and the last mean is > 0. Q is then the mean of the next
-// `measure_windows` rates; its error is the block-averaging estimate: the standard error of the mean
-// of blocks of 1, 2, 4, … windows (at least 4 blocks), the largest of them (correlations between
-// neighbouring windows raise it until it plateaus).
+// `measure_windows` rates; its error is the block-averaging estimate (analysis/common/block_average.hpp).
 // Clogging: no particle has crossed for `clog_time` t0 (checked at each window's end) → Q = 0,
 // clogged. Neither by `max_time` → steady = false, Q and its error from the windows of the run's
 // second half.
 #pragma once
 
+#include "analysis/common/block_average.hpp"
 #include "scenes/common/nan_watchdog.hpp"
 
 #include <cmath>
@@ -58,28 +57,8 @@ struct FlowResult {
   std::vector<double> window_rates;
 };
 
-// Mean and block-averaged standard error of `q` (see file comment).
-inline void block_average(const std::vector<double>& q, double& mean, double& error) {
-  const int n = int(q.size());
-  mean = 0;
-  for (double v : q) mean += v;
-  mean /= n;
-  error = n >= 4 ? 0.0 : NAN;  // fewer than 4 windows: no error estimate
-  for (int b = 1; n / b >= 4; b *= 2) {
-    const int blocks = n / b;
-    double s2 = 0;
-    for (int k = 0; k < blocks; ++k) {
-      double m = 0;
-      for (int j = 0; j < b; ++j) m += q[std::size_t(k * b + j)];
-      m /= b;
-      double all = 0;
-      for (int j = 0; j < blocks * b; ++j) all += q[std::size_t(j)];
-      all /= blocks * b;
-      s2 += (m - all) * (m - all);
-    }
-    error = std::max(error, std::sqrt(s2 / (blocks - 1) / blocks));
-  }
-}
+// The block-averaged error of Q: analysis/common/block_average.hpp.
+using analysis::block_average;
 
 // Steps `scene` until steady and measured, clogged, or max_time; after each window calls
 // on_window(scene, rate, measuring), measuring true for the windows that make Q (those after the

@@ -14,19 +14,17 @@
 // particle's original index), then the list is rebuilt and each particle's candidate walls (those
 // within σ_m/2 + skin) are marked, so the wall term queries only walls a particle can reach.
 //
-// Continuous flow (§2.4), every `detect_every` steps: one parallel_reduce marks particles whose
-// centre first passes below the orifice plane (height 0: they leave the hopper, adding their
-// area/volume to the crossed total) and counts those more than 2σ_avg below it. Only when that
-// count is nonzero are positions and velocities copied to the host (mirrors made once) and each
-// such particle re-inserted: a lateral target is drawn (host RNG keyed on the seed), the highest
-// bulk particle within σ_avg of it laterally is the anchor (the highest bulk particle overall if
-// that column is empty), and the particle is put in contact with the anchor (centre distance σ_mn
-// exactly) in the first direction — straight up, then tilting away by 15° steps — where it overlaps
-// no other particle and no wall by more than the contact tolerance 10⁻⁹ (relative, 1 − r/σ_mn and
-// 1 − 2d_w/σ_m); it takes the anchor's velocity. The particle count never changes.
+// Continuous flow (§2.4, scenes/hopper/recycling.hpp, shared with the DP hopper), every
+// `detect_every` steps: particles whose centre first passes below the orifice plane leave the
+// hopper; once some are more than 2σ_avg below it, positions and velocities are copied to the host
+// (mirrors made once) and each is re-inserted in contact with an anchor (centre distance σ_mn
+// exactly) where it overlaps no other particle and no wall by more than the contact tolerance 10⁻⁹
+// (relative, 1 − r/σ_mn and 1 − 2d_w/σ_m); it takes the anchor's velocity.
 #pragma once
 
 #include "scenes/common/nan_watchdog.hpp"
+#include "scenes/common/term_list.hpp"
+#include "scenes/hopper/recycling.hpp"
 #include "scenes/common/time_step_limit.hpp"
 #include "kernels/common/box.hpp"
 #include "kernels/common/fire.hpp"
@@ -37,6 +35,7 @@
 #include "kernels/common/particles.hpp"
 #include "kernels/common/reductions.hpp"
 #include "kernels/common/velocity_verlet.hpp"
+#include "kernels/sp/gravity.hpp"
 #include "kernels/sp/kinetic_friction.hpp"
 #include "kernels/sp/mass_proportional_drag.hpp"
 #include "kernels/sp/pair_repulsion.hpp"
@@ -54,10 +53,7 @@ namespace mesoflow::hopper {
 
 constexpr double sigma_small = 1.0 / 1.2;   // σ_s/σ_avg
 constexpr double sigma_large = 1.4 / 1.2;   // σ_l/σ_avg (σ_l/σ_s = 1.4)
-constexpr double recycle_depth = 2.0;       // σ_avg below the orifice before re-insertion (§2.4)
-constexpr double contact_tolerance = 1e-9;  // largest relative overlap of a re-inserted particle
 constexpr double initial_packing = 0.5;     // packing fraction of the random initial placement
-constexpr int detect_every = 10;            // steps between crossing/recycling checks
 constexpr int sort_every_builds = 20;       // neighbor-list rebuilds between particle sorts
 constexpr double pi = 3.14159265358979323846;
 
@@ -141,14 +137,18 @@ class HopperScene {
         outside_("mesoflow::hopper::outside", std::size_t(par.particles)),
         ids_("mesoflow::hopper::id", std::size_t(par.particles)),
         wall_candidates_("mesoflow::hopper::wall_candidates", std::size_t(par.particles)),
-        rng_(par.seed ^ 0x9e3779b97f4a7c15ULL) {
+        recycler_(par.seed) {
     place_randomly();
     number_ids(ids_);
     x_host_ = Kokkos::create_mirror_view(p_.x);
     v_host_ = Kokkos::create_mirror_view(p_.v);
     type_host_ = Kokkos::create_mirror_view(p_.type);
     outside_host_ = Kokkos::create_mirror_view(outside_);
+    declare_terms();
   }
+  // The term list's launches hold `this`: a scene stays where it was built.
+  HopperScene(const HopperScene&) = delete;
+  HopperScene& operator=(const HopperScene&) = delete;
 
   // FIRE without gravity or dissipation: removes the overlaps of the random placement (§2.4).
   FireResult relax(int max_iterations = 50000) {
@@ -169,12 +169,7 @@ class HopperScene {
   void step() {
     vv_.first_half(p_);
     maintain_neighbors();
-    const auto velocity = vv_.velocity_for_forces(p_);
-    gravity_forces(gravity_on_);
-    pair_.accumulate_forces(contacts_, p_, list_, box_);
-    sp::accumulate_wall_repulsion(Real(par_.wall_energy), contacts_, walls_, p_, wall_candidates_);
-    sp::accumulate_kinetic_friction(Real(par_.friction), contacts_, p_, velocity, list_, box_, par_.friction_component);
-    sp::accumulate_mass_proportional_drag(Real(par_.drag), p_, velocity);
+    terms_.evaluate(vv_.velocity_for_forces(p_));
     vv_.second_half(p_);
     ++steps_;
     if (steps_ % detect_every == 0) detect_crossings();
@@ -233,47 +228,14 @@ class HopperScene {
     w.step = [this] { step(); };
     w.steps = [this] { return steps_; };
     w.set_steps = [this](long long s) { steps_ = s; };
-    struct HostState {
-      std::mt19937_64 rng;
-      long long crossings, insertions, last_recycling_step;
-      double crossed, last_crossing_time;
-    };
-    auto saved = std::make_shared<HostState>();
-    w.save_host = [this, saved] {
-      *saved = {rng_, crossings_, insertions_, last_recycling_step_, crossed_, last_crossing_time_};
-    };
-    w.restore_host = [this, saved] {
-      rng_ = saved->rng;
-      crossings_ = saved->crossings;
-      insertions_ = saved->insertions;
-      last_recycling_step_ = saved->last_recycling_step;
-      crossed_ = saved->crossed;
-      last_crossing_time_ = saved->last_crossing_time;
-    };
+    auto saved = std::make_shared<Recycler::State>();
+    w.save_host = [this, saved] { *saved = recycler_.state(); };
+    w.restore_host = [this, saved] { recycler_.restore(*saved); };
     w.after_restore = [this] {
       list_.build(p_, box_);
       sp::find_wall_candidates(list_.skin(), contacts_, walls_, p_, wall_candidates_);
     };
-    const auto alone = [this](auto add) {
-      return [this, add] {
-        p_.zero_forces();
-        add();
-      };
-    };
-    w.terms = {{"gravity", [this] { gravity_forces(gravity_on_); }},
-               {"pair repulsion E_sp (eq. 2)", alone([this] { pair_.accumulate_forces(contacts_, p_, list_, box_); })},
-               {"wall repulsion E_w (eq. 3)", alone([this] {
-                  sp::accumulate_wall_repulsion(Real(par_.wall_energy), contacts_, walls_, p_, wall_candidates_);
-                })}};
-    if (par_.friction > 0)
-      w.terms.push_back({"kinetic friction μ (eq. 6)", alone([this] {
-                           sp::accumulate_kinetic_friction(Real(par_.friction), contacts_, p_, p_.v, list_, box_,
-                                                            par_.friction_component);
-                         }),
-                         true});
-    if (par_.drag > 0)
-      w.terms.push_back({"viscous drag ζ (eq. 5)",
-                         alone([this] { sp::accumulate_mass_proportional_drag(Real(par_.drag), p_, p_.v); }), true});
+    w.terms = terms_.watchdog_terms();
     const auto ids = ids_;
     w.particle = [ids](long long i) {
       int id = 0;
@@ -282,6 +244,15 @@ class HopperScene {
     };
     return w;
   }
+
+  // The scene's components: particles, walls and the launches of a step with their terms.
+  std::vector<std::string> components() const {
+    std::vector<std::string> c{std::to_string(p_.size()) + " soft particles (" + std::to_string(D) + "D, bidisperse)",
+                               std::to_string(shapes_.size()) + " walls (candidate walls per particle)"};
+    for (auto& line : terms_.components()) c.push_back(std::move(line));
+    return c;
+  }
+  const scene::TermList<const typename particles_type::vector_view&>& terms() const { return terms_; }
 
   const particles_type& particles() const { return p_; }
   // Original index of the particle now stored at each index (particles are sorted in memory).
@@ -292,15 +263,51 @@ class HopperScene {
   long long steps() const { return steps_; }
   double time() const { return double(steps_) * par_.dt; }
   double dt() const { return par_.dt; }
-  double crossed_measure() const { return crossed_; }          // area (2D) / volume (3D) out of the orifice
-  long long crossings() const { return crossings_; }
-  double last_crossing_time() const { return last_crossing_time_; }
-  long long insertions() const { return insertions_; }
-  const std::vector<int>& last_inserted() const { return last_inserted_; }  // of the latest recycling
-  long long last_recycling_step() const { return last_recycling_step_; }
-  double max_insertion_overlap() const { return max_insertion_overlap_; }   // over all insertions
+  double crossed_measure() const { return recycler_.state().crossed; }  // area (2D) / volume (3D) out of the orifice
+  long long crossings() const { return recycler_.state().crossings; }
+  double last_crossing_time() const { return recycler_.state().last_crossing_time; }
+  long long insertions() const { return recycler_.state().insertions; }
+  const std::vector<int>& last_inserted() const { return recycler_.state().last_inserted; }  // of the latest recycling
+  long long last_recycling_step() const { return recycler_.state().last_recycling_step; }
+  double max_insertion_overlap() const { return recycler_.state().max_insertion_overlap; }  // over all insertions
 
  private:
+  // The scene's terms, declared once: the step, the watchdog and the summaries read this list.
+  // One launch per term, in the step's order; gravity comes first and sets f (it clears the last
+  // step's forces), friction and drag take the half-step velocity.
+  void declare_terms() {
+    using vector_view = typename particles_type::vector_view;
+    const auto alone = [this](auto add) {
+      return [this, add] {
+        p_.zero_forces();
+        add();
+      };
+    };
+    terms_.term({"gravity", "eq. 4", false, true, [this] { gravity_forces(gravity_on_); }});
+    terms_.term({"pair repulsion E_sp", "eq. 2", false, par_.pair_energy != 0,
+                 alone([this] { pair_.accumulate_forces(contacts_, p_, list_, box_); })});
+    terms_.term({"wall repulsion E_w", "eq. 3", false, par_.wall_energy != 0, alone([this] {
+                   sp::accumulate_wall_repulsion(Real(par_.wall_energy), contacts_, walls_, p_, wall_candidates_);
+                 })});
+    terms_.term({"kinetic friction μ", "eq. 6", true, par_.friction > 0, alone([this] {
+                   sp::accumulate_kinetic_friction(Real(par_.friction), contacts_, p_, p_.v, list_, box_,
+                                                    par_.friction_component);
+                 })});
+    terms_.term({"viscous drag ζ", "eq. 5", true, par_.drag > 0,
+                 alone([this] { sp::accumulate_mass_proportional_drag(Real(par_.drag), p_, p_.v); })});
+    terms_.launch("gravity (one kernel)", {"gravity"}, [this](const vector_view&) { gravity_forces(gravity_on_); });
+    terms_.launch("pair loop (full neighbor list)", {"pair repulsion E_sp"},
+                  [this](const vector_view&) { pair_.accumulate_forces(contacts_, p_, list_, box_); });
+    terms_.launch("wall loop (candidate walls)", {"wall repulsion E_w"}, [this](const vector_view&) {
+      sp::accumulate_wall_repulsion(Real(par_.wall_energy), contacts_, walls_, p_, wall_candidates_);
+    });
+    terms_.launch("friction loop (full neighbor list)", {"kinetic friction μ"}, [this](const vector_view& u) {
+      sp::accumulate_kinetic_friction(Real(par_.friction), contacts_, p_, u, list_, box_, par_.friction_component);
+    });
+    terms_.launch("drag (one kernel)", {"viscous drag ζ"},
+                  [this](const vector_view& u) { sp::accumulate_mass_proportional_drag(Real(par_.drag), p_, u); });
+  }
+
   static std::vector<Shape<D, Real>> walls_2d(const HopperParameters& par) {
     if constexpr (D == 2)
       return hopper_walls_2d<Real>(Real(par.hopper_width), Real(par.orifice), Real(par.wall_angle));
@@ -367,16 +374,12 @@ class HopperScene {
         "mesoflow::hopper::ids", Kokkos::RangePolicy<ExecSpace>(0, ids.extent(0)), KOKKOS_LAMBDA(int i) { ids(i) = i; });
   }
 
-  // f ← M g (g along −axis D−1) or 0.
+  // f ← M g (g along −axis D−1) or 0 (kernels/sp/gravity.hpp). Off, the vertical component is −0,
+  // as the scene's gravity has always given.
   void gravity_forces(bool with_gravity) {
-    const auto f = p_.f;
-    const auto m = p_.mass;
-    const Real g = with_gravity ? Real(1) : Real(0);
-    Kokkos::parallel_for(
-        "mesoflow::hopper::gravity", Kokkos::RangePolicy<ExecSpace>(0, p_.size()), KOKKOS_LAMBDA(int i) {
-          for (int d = 0; d < D - 1; ++d) f(i, d) = Real(0);
-          f(i, D - 1) = -g * m(i);
-        });
+    V g = V::zero();
+    g[D - 1] = -(with_gravity ? Real(1) : Real(0));
+    sp::set_gravity_forces(p_, g);
   }
 
   // Rebuilds the neighbor list when the skin criterion asks for it, sorting the particles into
@@ -391,29 +394,21 @@ class HopperScene {
     sp::find_wall_candidates(list_.skin(), contacts_, walls_, p_, wall_candidates_);
   }
 
-  // Marks first passages below the orifice plane, sums their area/volume, counts particles to recycle.
+  // A particle's height and area/volume, for count_crossings (recycling.hpp).
+  struct CrossingBody {
+    typename particles_type::vector_view x;
+    typename particles_type::int_view type;
+    double small, large;
+    KOKKOS_INLINE_FUNCTION Real height(int i) const { return x(i, D - 1); }
+    KOKKOS_INLINE_FUNCTION double measure(int i) const { return type(i) == 0 ? small : large; }
+  };
+
+  // Marks first passages below the orifice plane, sums their area/volume, recycles when needed.
   void detect_crossings() {
-    const auto x = p_.x;
-    const auto type = p_.type;
-    const auto outside = outside_;
-    const double small = particle_measure<D>(sigma_small), large = particle_measure<D>(sigma_large);
-    const Real depth = Real(-recycle_depth);
-    const auto sums = parallel_sum<3, ExecSpace>(
-        "mesoflow::hopper::detect_crossings", int(p_.size()), KOKKOS_LAMBDA(int i, double(&acc)[3]) {
-          const Real h = x(i, D - 1);
-          if (outside(i) == 0 && h < Real(0)) {
-            outside(i) = 1;
-            acc[0] += type(i) == 0 ? small : large;
-            acc[1] += 1;
-          }
-          if (h < depth) acc[2] += 1;
-        });
-    if (sums[1] > 0) {
-      crossed_ += sums[0];
-      crossings_ += (long long)(sums[1]);
-      last_crossing_time_ = time();
-    }
-    if (sums[2] > 0) recycle();
+    const auto sums = count_crossings<Real>(
+        "mesoflow::hopper::detect_crossings", int(p_.size()), outside_,
+        CrossingBody{p_.x, p_.type, particle_measure<D>(sigma_small), particle_measure<D>(sigma_large)});
+    if (recycler_.record_crossings(sums, time())) recycle();
   }
 
   // Largest relative overlap of particle i at `pos` with every other particle and the walls.
@@ -436,82 +431,42 @@ class HopperScene {
     return worst;
   }
 
-  // Directions to try around an anchor: straight up, then tilting by 15° steps (3D: 8 azimuths per tilt).
-  static std::vector<Vec<D, double>> contact_directions() {
-    std::vector<Vec<D, double>> dirs;
-    for (int tilt = 0; tilt <= 6; ++tilt) {
-      const double a = tilt * pi / 12;
-      if constexpr (D == 2) {
-        dirs.push_back(Vec<2, double>{{std::sin(a), std::cos(a)}});
-        if (tilt > 0) dirs.push_back(Vec<2, double>{{-std::sin(a), std::cos(a)}});
-      } else {
-        const int azimuths = tilt == 0 ? 1 : 8;
-        for (int k = 0; k < azimuths; ++k) {
-          const double b = 2 * pi * k / azimuths;
-          dirs.push_back(Vec<3, double>{{std::sin(a) * std::cos(b), std::sin(a) * std::sin(b), std::cos(a)}});
-        }
-      }
-    }
-    return dirs;
-  }
-
  private:
-  // Host re-insertion of every particle more than recycle_depth below the orifice (see file comment).
+  // Host re-insertion of every particle more than recycle_depth below the orifice (recycling.hpp).
   void recycle() {
     Kokkos::deep_copy(x_host_, p_.x);
     Kokkos::deep_copy(v_host_, p_.v);
     Kokkos::deep_copy(outside_host_, outside_);
     Kokkos::deep_copy(type_host_, p_.type);
     const int n = int(p_.size());
-    last_inserted_.clear();
+    std::vector<int> below;
     for (int i = 0; i < n; ++i)
-      if (double(x_host_(i, D - 1)) < -recycle_depth) last_inserted_.push_back(i);
-    const auto dirs = contact_directions();
-    const double r = inner_radius();
-    std::uniform_real_distribution<double> u(-1, 1);
-    for (const int i : last_inserted_) {
-      double target[2] = {0, 0};
-      do {
-        for (int d = 0; d < D - 1; ++d) target[d] = r * u(rng_);
-      } while (target[0] * target[0] + target[1] * target[1] > r * r);
-      // Anchors: bulk particles (inside the hopper, not awaiting re-insertion), those within σ_avg of
-      // the target laterally first, each group highest first.
-      std::vector<std::pair<double, int>> order;
-      for (int k = 0; k < n; ++k) {
-        if (outside_host_(k) != 0 || double(x_host_(k, D - 1)) < -recycle_depth) continue;
-        double lateral2 = 0;
-        for (int d = 0; d < D - 1; ++d) lateral2 += std::pow(double(x_host_(k, d)) - target[d], 2);
-        order.emplace_back((lateral2 < 1 ? 1e9 : 0) + double(x_host_(k, D - 1)), k);
+      if (double(x_host_(i, D - 1)) < -recycle_depth) below.push_back(i);
+    const auto anchor = [&](int k) {
+      Recycler::Anchor a{outside_host_(k) == 0 && !(double(x_host_(k, D - 1)) < -recycle_depth), {0, 0},
+                         double(x_host_(k, D - 1))};
+      for (int d = 0; d < D - 1; ++d) a.lateral[d] = double(x_host_(k, d));
+      return a;
+    };
+    // In contact with anchor j (centre distance σ_mn), taking its velocity.
+    const auto try_place = [&](int i, int j, const Vec<D, double>& dir) -> std::optional<double> {
+      const double s = 0.5 * (particle_diameter(type_host_(i)) + particle_diameter(type_host_(j)));
+      Vec<D, double> pos;
+      for (int d = 0; d < D; ++d) pos[d] = double(x_host_(j, d)) + s * dir[d];
+      const double overlap = overlap_at(i, pos);
+      if (overlap > contact_tolerance) return std::nullopt;
+      for (int d = 0; d < D; ++d) {
+        x_host_(i, d) = Real(pos[d]);
+        v_host_(i, d) = v_host_(j, d);
       }
-      std::sort(order.begin(), order.end(), [](const auto& a, const auto& b) {
-        return a.first != b.first ? a.first > b.first : a.second < b.second;
-      });
-      bool placed = false;
-      for (const auto& [key, j] : order) {
-        const double s = 0.5 * (particle_diameter(type_host_(i)) + particle_diameter(type_host_(j)));
-        for (const auto& dir : dirs) {
-          Vec<D, double> pos;
-          for (int d = 0; d < D; ++d) pos[d] = double(x_host_(j, d)) + s * dir[d];
-          const double overlap = overlap_at(i, pos);
-          if (overlap > contact_tolerance) continue;
-          for (int d = 0; d < D; ++d) {
-            x_host_(i, d) = Real(pos[d]);
-            v_host_(i, d) = v_host_(j, d);
-          }
-          outside_host_(i) = 0;
-          max_insertion_overlap_ = std::max(max_insertion_overlap_, overlap);
-          placed = true;
-          break;
-        }
-        if (placed) break;
-      }
-      if (!placed) throw std::runtime_error("hopper scene: no place to re-insert particle " + std::to_string(i));
-      ++insertions_;
-    }
+      outside_host_(i) = 0;
+      return overlap;
+    };
+    recycler_.reinsert<D>(below, inner_radius(), n, anchor, try_place, "hopper scene: no place to re-insert particle ",
+                          steps_);
     Kokkos::deep_copy(p_.x, x_host_);
     Kokkos::deep_copy(p_.v, v_host_);
     Kokkos::deep_copy(outside_, outside_host_);
-    last_recycling_step_ = steps_;
   }
 
   HopperParameters par_;
@@ -529,12 +484,11 @@ class HopperScene {
   typename particles_type::vector_view::HostMirror x_host_, v_host_;
   typename particles_type::int_view::HostMirror type_host_;
   typename Kokkos::View<int*, ExecSpace>::HostMirror outside_host_;
-  std::mt19937_64 rng_;
+  Recycler recycler_;  // the continuous flow's counters and RNG (recycling.hpp)
+  scene::TermList<const typename particles_type::vector_view&> terms_;
   bool gravity_on_ = true;
   int sorts_ = 0;
-  long long steps_ = 0, crossings_ = 0, insertions_ = 0, last_recycling_step_ = -1;
-  double crossed_ = 0, last_crossing_time_ = 0, max_insertion_overlap_ = 0;
-  std::vector<int> last_inserted_;
+  long long steps_ = 0;
 };
 
 }  // namespace mesoflow::hopper
