@@ -33,11 +33,11 @@
 #include "kernels/common/neighbor_list.hpp"
 #include "kernels/common/particle_sort.hpp"
 #include "kernels/common/velocity_verlet.hpp"
-#include "no_slip_walls.hpp"
-#include "smoothing_kernels.hpp"
-#include "sph_integrator.hpp"
-#include "sph_pair_interactions.hpp"
-#include "sph_time_step.hpp"
+#include "kernels/sph/no_slip_walls.hpp"
+#include "kernels/sph/smoothing_kernels.hpp"
+#include "kernels/sph/sph_integrator.hpp"
+#include "kernels/sph/sph_pair_interactions.hpp"
+#include "kernels/sph/sph_time_step.hpp"
 
 #include <optional>
 #include <stdexcept>

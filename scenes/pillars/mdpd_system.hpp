@@ -18,10 +18,10 @@
 #include "kernels/common/particle_sort.hpp"
 #include "kernels/common/reductions.hpp"
 #include "kernels/common/velocity_verlet.hpp"
-#include "local_density.hpp"
-#include "mdpd_pair_force.hpp"
-#include "region_body_force.hpp"
-#include "tether_springs.hpp"
+#include "kernels/mdpd/local_density.hpp"
+#include "kernels/mdpd/mdpd_pair_force.hpp"
+#include "kernels/mdpd/region_body_force.hpp"
+#include "kernels/mdpd/tether_springs.hpp"
 
 #include <cstdint>
 #include <optional>
