@@ -76,9 +76,6 @@ class MdpdSystem {
       throw std::invalid_argument("mdpd: sort_every must be >= 0, got " + std::to_string(opt.sort_every));
     declare_terms();
   }
-  // The term list's launches hold `this`: a system stays where it was built.
-  MdpdSystem(const MdpdSystem&) = delete;
-  MdpdSystem& operator=(const MdpdSystem&) = delete;
 
   // Fresh storage for n particles (fluid, unit mass, tags 0…n−1, sites at the origin).
   void allocate(int n) {
@@ -158,8 +155,8 @@ class MdpdSystem {
 
   using Terms = scene::TermList<bool, const vector_view&>;
   // The system's terms (see the file comment): the force evaluation, the watchdog and summaries.
-  const Terms& terms() const { return terms_; }
-  std::vector<std::string> components() const { return terms_.components(); }
+  const Terms& terms() const { return own_terms().list; }
+  std::vector<std::string> components() const { return terms().components(); }
 
   // The state a bit-identical restart needs (scenes/common/checkpoint_fields.hpp), declared once
   // for writing and reading: the particle arrays (x, v, the forces of the last step, mass, type,
@@ -218,8 +215,9 @@ class MdpdSystem {
   // pair loop, which assigns f, is skipped and f starts from zero.
   void compute_forces(bool record_drag, const vector_view& v_forces) {
     update_list();
-    if (!terms_.serves_active_term(terms_.launches().front())) particles.zero_forces();
-    terms_.evaluate(record_drag, v_forces);
+    const Terms& terms = own_terms().list;
+    if (!terms.serves_active_term(terms.launches().front())) particles.zero_forces();
+    terms.evaluate(record_drag, v_forces);
   }
 
   // Neighbor-list upkeep: rebuild past half the skin, and every sort_every rebuilds a memory sort.
@@ -270,6 +268,7 @@ class MdpdSystem {
   // The terms, once (see the file comment); re-declared when the scene changes which act (the
   // solids and cores found by prepare_terms, the driving region, the split force).
   void declare_terms() {
+    Terms& terms_ = own_terms_.list;
     terms_ = Terms{};
     const auto pair_alone = [this](int which) {
       return [this, which] {
@@ -326,7 +325,22 @@ class MdpdSystem {
   std::uint64_t seed_;        // the pair noise's (the terms alone use it too)
   bool has_solids_ = false, has_core_ = false;
   int builds_since_sort_ = 0, num_sorts_ = 0;
-  Terms terms_;
+  // The term list, left empty by a copy or move of the system (its launches and terms alone hold
+  // `this`): a copy declares its own at first use (own_terms()).
+  struct OwnTerms {
+    Terms list;
+    OwnTerms() = default;
+    OwnTerms(const OwnTerms&) {}
+    OwnTerms& operator=(const OwnTerms&) {
+      list = Terms{};
+      return *this;
+    }
+  };
+  const OwnTerms& own_terms() const {
+    if (own_terms_.list.launches().empty()) const_cast<MdpdSystem*>(this)->declare_terms();
+    return own_terms_;
+  }
+  OwnTerms own_terms_;
   std::shared_ptr<MdpdTermsAlone<D, Real, ExecSpace>> alone_;
 };
 
