@@ -37,7 +37,6 @@
 #include "io/checkpoint.hpp"
 #include "io/h5md_writer.hpp"
 #include "kernels/mpc/mpc_viscosity.hpp"
-#include "kernels/mpc/stability.hpp"
 #include "scenes/common/checkpoint_fields.hpp"
 #include "scenes/common/nan_watchdog.hpp"
 #include "scenes/common/time_step_limit.hpp"
@@ -101,22 +100,10 @@ void run(const Parameters& par, const cli::DriverApp& app) {
   const driver::OutputPaths out(app.output());
   const std::string base = out.csv.substr(0, out.csv.size() - 4);
   const auto& f = par.flow;
-  mpc::ChannelFlowParameters<Real> fp;
-  fp.length = Real(f.length);
-  fp.width = Real(f.width);
+  auto fp = mpc::converted<Real>(f);
   fp.walls = true;
-  fp.cell_size = Real(f.cell_size);
-  fp.density = Real(f.density);
-  fp.kT = Real(f.kT);
-  fp.mass = Real(f.mass);
-  fp.h = Real(f.h);
   fp.rule = mpc::parse_collision_rule(par.rule);
   fp.wall_virtual = mpc::parse_wall_virtual_rule(par.wall_virtual);
-  fp.body_acceleration = Real(f.body_acceleration);
-  fp.disc_radius = Real(f.disc_radius);
-  fp.friction = Real(f.friction);
-  fp.wca_epsilon = Real(f.wca_epsilon);
-  fp.wca_r0 = Real(f.wca_r0);
   fp.seed = std::uint64_t(par.seed);
   if (std::abs(f.length / f.cell_size - std::round(f.length / f.cell_size)) > 1e-9)
     throw std::invalid_argument("--length " + std::to_string(f.length) + ": must be a multiple of the cell size");
@@ -322,17 +309,7 @@ int main(int argc, char** argv) {
   app.add_flag("--no-plot", par.no_plot, "do not write the PNG plot");
   return app.run(argc, argv, [&] {
     // WCA contacts of the discs and the solvent's bounce-back (kernels/mpc/stability.hpp).
-    mesoflow::mpc::DiscStiffnessInputs s;
-    s.cell_size = f.cell_size;
-    s.density = f.density;
-    s.mass = f.mass;
-    s.kT = f.kT;
-    s.disc_radius = f.disc_radius;
-    s.body_acceleration = f.body_acceleration;
-    s.wca_epsilon = f.wca_epsilon;
-    s.wca_r0 = f.wca_r0;
-    s.discs = par.discs > 0;
-    const auto limit = mesoflow::mpc::disc_stability(s);
+    const auto limit = mesoflow::mpc::channel_flow_stability(f, par.discs > 0);
     mesoflow::cli::check_time_step("crystal", f.h, {limit.max_dt(), limit.limiting_term("τ")}, par.force_dt);
     mesoflow::KokkosScope kokkos(par.threads);
     if (par.precision == "float")

@@ -45,6 +45,7 @@
 #include "kernels/mpc/maxwell_boltzmann.hpp"
 #include "kernels/mpc/mpc_collision.hpp"
 #include "kernels/mpc/rigid_discs.hpp"
+#include "kernels/mpc/stability.hpp"
 #include "kernels/mpc/streaming.hpp"
 #include "kernels/mpc/virtual_particles.hpp"
 #include "kernels/mpc/wall_bounce_back.hpp"
@@ -99,6 +100,46 @@ struct ChannelFlowParameters {
   std::uint64_t seed = 1;
   int sort_interval = 25;  // steps between reorderings of the solvent by collision cell; 0: never
 };
+
+// The parameters at another precision.
+template <class To, class From>
+ChannelFlowParameters<To> converted(const ChannelFlowParameters<From>& p) {
+  ChannelFlowParameters<To> q;
+  q.length = To(p.length);
+  q.width = To(p.width);
+  q.walls = p.walls;
+  q.wall_virtual = p.wall_virtual;
+  q.cell_size = To(p.cell_size);
+  q.density = To(p.density);
+  q.kT = To(p.kT);
+  q.mass = To(p.mass);
+  q.h = To(p.h);
+  q.rule = p.rule;
+  q.srd_angle = To(p.srd_angle);
+  q.body_acceleration = To(p.body_acceleration);
+  q.disc_radius = To(p.disc_radius);
+  q.friction = To(p.friction);
+  q.wca_epsilon = To(p.wca_epsilon);
+  q.wca_r0 = To(p.wca_r0);
+  q.seed = p.seed;
+  q.sort_interval = p.sort_interval;
+  return q;
+}
+
+// The explicit limit of the discs' WCA contacts and the solvent's bounce-back (kernels/mpc/stability.hpp).
+inline StabilityEstimate channel_flow_stability(const ChannelFlowParameters<double>& f, bool discs) {
+  DiscStiffnessInputs s;
+  s.cell_size = f.cell_size;
+  s.density = f.density;
+  s.mass = f.mass;
+  s.kT = f.kT;
+  s.disc_radius = f.disc_radius;
+  s.body_acceleration = f.body_acceleration;
+  s.wca_epsilon = f.wca_epsilon;
+  s.wca_r0 = f.wca_r0;
+  s.discs = discs;
+  return disc_stability(s);
+}
 
 template <class Real, class ExecSpace = Kokkos::DefaultExecutionSpace>
 class ChannelFlow {
@@ -299,20 +340,20 @@ class ChannelFlow {
   // acts. The WCA term alone (for the watchdog) leaves the discs' force in discs().force.
   void declare_terms() {
     const bool discs = discs_.size() > 0, walls = walls_.has_value();
-    terms_.term({"disc drift", "", false, discs});
-    terms_.term({"streaming", "eq. B.1", false, true});
-    terms_.term({"body acceleration g", "eq. B.1", false, g_[0] != Real(0) || g_[1] != Real(0)});
-    terms_.term({"wall bounce-back", "", true, walls});
-    terms_.term({"disc bounce-back", "", true, discs});
-    terms_.term({"MPC collision", "eq. B.2", true, true});
-    terms_.term({"wall virtual particles", "", true, walls});
-    terms_.term({"disc virtual particles", "", true, discs});
+    terms_.term({"disc drift", "", false, discs, {}});
+    terms_.term({"streaming", "eq. B.1", false, true, {}});
+    terms_.term({"body acceleration g", "eq. B.1", false, g_[0] != Real(0) || g_[1] != Real(0), {}});
+    terms_.term({"wall bounce-back", "", true, walls, {}});
+    terms_.term({"disc bounce-back", "", true, discs, {}});
+    terms_.term({"MPC collision", "eq. B.2", true, true, {}});
+    terms_.term({"wall virtual particles", "", true, walls, {}});
+    terms_.term({"disc virtual particles", "", true, discs, {}});
     terms_.term({"disc–disc and disc–wall WCA", "eq. B.4", false, discs, [this] {
                    discs_.clear_accumulators();
                    accumulate_disc_wca(wca_, discs_);
                  }});
-    terms_.term({"plate friction γ", "", true, discs && p_.friction != Real(0)});
-    terms_.term({"disc kick", "", false, discs});
+    terms_.term({"plate friction γ", "", true, discs && p_.friction != Real(0), {}});
+    terms_.term({"disc kick", "", false, discs, {}});
     terms_.launch("disc drift (rigid_discs.hpp)", {"disc drift"}, [this] {
       discs_.clear_accumulators();
       discs_.move(p_.h);
