@@ -25,18 +25,22 @@
 // eq. 5; analysis/crystal/phonon_spectra.hpp), <out>_theory.csv and <out>_phonons.png
 // (scripts/plot_crystal.py). Frames before --warmup are written but left out of K and the spectra.
 // <out>.ckpt.h5 is replaced atomically every --checkpoint-interval; --restart continues from it.
-#include "drivers/common/cli.hpp"
-#include "scenes/common/nan_watchdog.hpp"
-#include "drivers/common/output_paths.hpp"
-#include "drivers/common/particle_io.hpp"
-#include "drivers/common/progress.hpp"
-#include "scenes/common/time_step_limit.hpp"
+// The scene: scenes/crystal/channel_flow.hpp (its terms, watchdog view and checkpoint fields) and
+// scenes/crystal/crystal_record.hpp (disc placement, frames, far field); η of eq. (B.3):
+// kernels/mpc/mpc_viscosity.hpp.
 #include "analysis/crystal/dispersion_theory.hpp"
 #include "analysis/crystal/phonon_spectra.hpp"
+#include "drivers/common/cli.hpp"
+#include "drivers/common/json_summary.hpp"
+#include "drivers/common/output_paths.hpp"
+#include "drivers/common/progress.hpp"
 #include "io/checkpoint.hpp"
 #include "io/h5md_writer.hpp"
-#include "scenes/crystal/channel_flow.hpp"
-#include "kernels/mpc/stability.hpp"
+#include "kernels/mpc/mpc_viscosity.hpp"
+#include "scenes/common/checkpoint_fields.hpp"
+#include "scenes/common/nan_watchdog.hpp"
+#include "scenes/common/time_step_limit.hpp"
+#include "scenes/crystal/crystal_record.hpp"
 
 #include <array>
 #include <chrono>
@@ -73,30 +77,7 @@ struct Parameters {
 
 // η of eq. (B.3) (MPC-AT+a, d = 2, large n).
 double viscosity_b3(const mpc::ChannelFlowParameters<double>& p) {
-  const double n = p.density, a = p.cell_size, h = p.h, d = 2;
-  return n * p.kT * h / std::pow(a, d) * (n / (n - (d + 2) / 4) - 0.5) + p.mass * (n - 1.4) / (24 * std::pow(a, d - 2) * h);
-}
-
-// Disc centres: spacing a = L/N along x, y on a triangle wave of `wavelength` discs about W/2,
-// starting on the axis (a single disc sits on the axis, as in the paper's calibration of K).
-std::vector<std::array<double, 2>> zigzag(const Parameters& par) {
-  const auto& f = par.flow;
-  const double spacing = f.length / double(par.discs);
-  const double largest = 0.5 * f.width - f.disc_radius - std::pow(2.0, 1.0 / 6.0) * f.wca_r0;
-  const double amplitude = par.amplitude < 0 ? std::max(0.0, largest) : par.amplitude;
-  if (par.discs > 1 && spacing < 2 * f.disc_radius)
-    throw std::invalid_argument("--discs " + std::to_string(par.discs) + ": spacing L/N = " + std::to_string(spacing) +
-                          " is below the disc diameter 2R = " + std::to_string(2 * f.disc_radius));
-  if (amplitude > 0.5 * f.width - f.disc_radius)
-    throw std::invalid_argument("--amplitude " + std::to_string(amplitude) + ": must be at most W/2 - R = " +
-                          std::to_string(0.5 * f.width - f.disc_radius));
-  std::vector<std::array<double, 2>> centres(std::size_t(par.discs));
-  for (long long j = 0; j < par.discs; ++j) {
-    const double s = double(j % par.wavelength) / double(par.wavelength);
-    const double triangle = 1 - 4 * std::abs(s - 0.25 - std::floor(s + 0.25));  // 0 at s = 0, ±1 at s = 1/4, 3/4
-    centres[std::size_t(j)] = {(double(j) + 0.5) * spacing, 0.5 * f.width + amplitude * triangle};
-  }
-  return centres;
+  return mpc::at_plus_a_viscosity(p.density, p.kT, p.mass, p.h, p.cell_size);
 }
 
 // The parameters a restart must share with the run it continues (all but the run length,
@@ -113,67 +94,20 @@ std::string scene_signature(const Parameters& par) {
   return s.str();
 }
 
-// Recorded frames, kept in memory (and in the checkpoint) for the analysis at the end.
-struct Record {
-  std::vector<std::int64_t> steps;
-  std::vector<double> x, y;          // unwrapped centres, frame-major
-  std::vector<double> u_d, u_oil;    // per frame
-  std::vector<double> far_sum, far_count;  // one disc: Σ v_x and samples per height bin, far from the disc
-};
-
-// One disc: the solvent's velocity profile u_x(y) far from the disc (periodic distance along x from
-// its centre at least R + W, where a disc's disturbance of channel flow has decayed to
-// e^{−4.2} ≈ 1.5% of it), in bins of half a cell across the channel, summed over the measured
-// frames. Its centre-line value is the undisturbed oil speed on the axis where the disc sits, and its
-// mean the undisturbed mean oil speed; K is given against both (docs/mpc.md, "K of a single disc").
-struct FarField {
-  double from_disc = 0;  // R + W
-  int bins = 0;
-  double bin_width = 0;
-  bool enabled(double length) const { return bins > 0 && length > 2 * from_disc; }
-  // {mean, axis} speed of per-bin sums: the mean over every sample, the axis over the bins within
-  // half a cell of y = W/2; 0 where a bin set is empty.
-  std::array<double, 2> speeds(const std::vector<double>& sum, const std::vector<double>& count, double width,
-                               double cell) const {
-    double s = 0, c = 0, as = 0, ac = 0;
-    for (int b = 0; b < bins; ++b) {
-      s += sum[std::size_t(b)];
-      c += count[std::size_t(b)];
-      if (std::abs((b + 0.5) * bin_width - 0.5 * width) < 0.5 * cell) {
-        as += sum[std::size_t(b)];
-        ac += count[std::size_t(b)];
-      }
-    }
-    return {c > 0 ? s / c : 0.0, ac > 0 ? as / ac : 0.0};
-  }
-};
-
 template <class Real>
 void run(const Parameters& par, const cli::DriverApp& app) {
   using Exec = Kokkos::DefaultExecutionSpace;
   const driver::OutputPaths out(app.output());
   const std::string base = out.csv.substr(0, out.csv.size() - 4);
-  mpc::ChannelFlowParameters<Real> fp;
   const auto& f = par.flow;
-  fp.length = Real(f.length);
-  fp.width = Real(f.width);
+  auto fp = mpc::converted<Real>(f);
   fp.walls = true;
-  fp.cell_size = Real(f.cell_size);
-  fp.density = Real(f.density);
-  fp.kT = Real(f.kT);
-  fp.mass = Real(f.mass);
-  fp.h = Real(f.h);
   fp.rule = mpc::parse_collision_rule(par.rule);
   fp.wall_virtual = mpc::parse_wall_virtual_rule(par.wall_virtual);
-  fp.body_acceleration = Real(f.body_acceleration);
-  fp.disc_radius = Real(f.disc_radius);
-  fp.friction = Real(f.friction);
-  fp.wca_epsilon = Real(f.wca_epsilon);
-  fp.wca_r0 = Real(f.wca_r0);
   fp.seed = std::uint64_t(par.seed);
   if (std::abs(f.length / f.cell_size - std::round(f.length / f.cell_size)) > 1e-9)
     throw std::invalid_argument("--length " + std::to_string(f.length) + ": must be a multiple of the cell size");
-  const auto centres_d = zigzag(par);
+  const auto centres_d = crystal::zigzag(f, par.discs, par.wavelength, par.amplitude);
   std::vector<std::array<Real, 2>> centres;
   for (const auto& c : centres_d) centres.push_back({Real(c[0]), Real(c[1])});
   mpc::ChannelFlow<Real, Exec> flow(fp, centres);
@@ -185,55 +119,20 @@ void run(const Parameters& par, const cli::DriverApp& app) {
   const std::int64_t frame_steps = std::max<std::int64_t>(1, steps_of(par.frame_interval));
   const std::int64_t checkpoint_steps = std::max<std::int64_t>(1, steps_of(par.checkpoint_interval));
 
-  Record rec;
-  FarField far;
-  if (nd == 1) {
-    far.from_disc = f.disc_radius + f.width;
-    far.bins = int(std::llround(2 * f.width / f.cell_size));
-    far.bin_width = f.width / double(far.bins);
-    if (!far.enabled(f.length)) far.bins = 0;
-  }
-  rec.far_sum.assign(std::size_t(far.bins), 0.0);
-  rec.far_count.assign(std::size_t(far.bins), 0.0);
-  std::vector<double> last_folded(nd), image_shift(nd, 0.0);
+  crystal::CrystalRecord rec(f, centres_d, warmup_steps);
+  const bool far = rec.far_field().bins > 0;
   std::optional<io::H5mdWriter> h5;
   if (par.restart) {
-    io::CheckpointReader ck(out.checkpoint);
+    const io::CheckpointReader ck(out.checkpoint);
     const std::string stored = ck.get_string("scene");
     if (stored != scene_signature(par))
       throw std::invalid_argument("--restart: " + out.checkpoint + " was written by another scene (" + stored +
                                   "); only --time, --checkpoint-interval, --check-every, --threads and --no-plot may change");
-    std::vector<Real> xs, vs, dx, du, dw;
-    ck.get("solvent/x", xs);
-    ck.get("solvent/v", vs);
-    ck.get("discs/x", dx);
-    ck.get("discs/u", du);
-    ck.get("discs/omega", dw);
-    if (xs.size() != 2 * flow.num_solvent() || dx.size() != 2 * nd)
-      throw std::runtime_error(out.checkpoint + ": written for another scene (" + std::to_string(xs.size() / 2) +
-                               " solvent particles, " + std::to_string(dx.size() / 2) + " discs)");
-    driver::from_row_major(flow.positions(), xs);
-    driver::from_row_major(flow.velocities(), vs);
-    driver::from_row_major(flow.discs().x, dx);
-    driver::from_row_major(flow.discs().u, du);
-    driver::from_host_vector(flow.discs().omega, dw);
-    ck.get("record/steps", rec.steps);
-    ck.get("record/x", rec.x);
-    ck.get("record/y", rec.y);
-    ck.get("record/u_d", rec.u_d);
-    ck.get("record/u_oil", rec.u_oil);
-    if (far.bins > 0) {
-      if (!ck.has("record/far_sum"))
-        throw std::runtime_error(out.checkpoint + ": written before the far-field profile was recorded; run again without --restart");
-      ck.get("record/far_sum", rec.far_sum);
-      ck.get("record/far_count", rec.far_count);
-    }
-    ck.get("record/last_folded", last_folded);
-    ck.get("record/image_shift", image_shift);
-    const std::int64_t step = ck.get_scalar_int64("step");
-    flow.restore(std::uint64_t(step));
-    h5.emplace(io::H5mdWriter::resume(out.trajectory, step));
-    if (!app.quiet()) std::cerr << "crystal: resumed from " << out.checkpoint << " at step " << step << "\n";
+    scene::LoadFields load(ck);
+    flow.checkpoint_fields(load);
+    rec.checkpoint_fields(load);
+    h5.emplace(io::H5mdWriter::resume(out.trajectory, std::int64_t(flow.steps_done())));
+    if (!app.quiet()) std::cerr << "crystal: resumed from " << out.checkpoint << " at step " << flow.steps_done() << "\n";
   } else {
     h5.emplace(out.trajectory, "mesoflow", MESOFLOW_VERSION, "mesoflow crystal");
     for (const auto& [key, value] : app.resolved_parameters()) h5->set_parameter(key, value);
@@ -241,88 +140,24 @@ void run(const Parameters& par, const cli::DriverApp& app) {
     h5->set_parameter("disc_mass", double(flow.discs().mass()));
     h5->set_parameter("viscosity_b3", viscosity_b3(f));
     h5->add_particles_group("discs", 2, nd, {0.0, 0.0}, {f.length, f.width}, {true, false});
-    for (std::size_t k = 0; k < nd; ++k) last_folded[k] = centres_d[k][0];
   }
-
   const auto record = [&] {
-    const auto X = driver::to_row_major(flow.discs().x);
-    const auto U = driver::to_row_major(flow.discs().u);
-    const std::int64_t step = std::int64_t(flow.steps_done());
-    const double t = flow.time();
-    std::vector<double> pos(2 * nd), vel(2 * nd);
-    double ud = 0;
-    for (std::size_t k = 0; k < nd; ++k) {
-      const double xf = double(X[2 * k]);
-      double jump = xf - last_folded[k];  // a disc moves far less than L/2 between frames
-      image_shift[k] -= f.length * std::round(jump / f.length);
-      last_folded[k] = xf;
-      pos[2 * k] = xf + image_shift[k];
-      pos[2 * k + 1] = double(X[2 * k + 1]);
-      vel[2 * k] = double(U[2 * k]);
-      vel[2 * k + 1] = double(U[2 * k + 1]);
-      ud += vel[2 * k] / double(nd);
-    }
-    const double uoil = flow.solvent_momentum()[0] / (f.mass * double(flow.num_solvent()));
-    h5->append("discs", "position", step, t, pos.data(), nd, 2);
-    h5->append("discs", "velocity", step, t, vel.data(), nd, 2);
-    h5->append_observable("u_oil", step, t, uoil);
-    h5->append_observable("u_d", step, t, ud);
-    rec.steps.push_back(step);
-    for (std::size_t k = 0; k < nd; ++k) {
-      rec.x.push_back(pos[2 * k]);
-      rec.y.push_back(pos[2 * k + 1]);
-    }
-    rec.u_d.push_back(ud);
-    rec.u_oil.push_back(uoil);
-    if (far.bins > 0) {
-      // A host copy of the solvent once per frame (hundreds of steps apart), for the far field only:
-      // this frame's mean and axis speeds as observables, the profile summed over measured frames.
-      const auto xs = driver::to_row_major(flow.positions());
-      const auto vs = driver::to_row_major(flow.velocities());
-      const double xd = double(X[0]);
-      std::vector<double> sum(std::size_t(far.bins), 0.0), count(std::size_t(far.bins), 0.0);
-      for (std::size_t i = 0; i < flow.num_solvent(); ++i) {
-        double dx = double(xs[2 * i]) - xd;
-        dx -= f.length * std::round(dx / f.length);
-        if (std::abs(dx) < far.from_disc) continue;
-        const int b = std::min(far.bins - 1, std::max(0, int(double(xs[2 * i + 1]) / far.bin_width)));
-        sum[std::size_t(b)] += double(vs[2 * i]);
-        count[std::size_t(b)] += 1.0;
-      }
-      const auto [u_mean, u_axis] = far.speeds(sum, count, f.width, f.cell_size);
-      h5->append_observable("u_far_mean", step, t, u_mean);
-      h5->append_observable("u_far_axis", step, t, u_axis);
-      if (step >= warmup_steps)
-        for (int b = 0; b < far.bins; ++b) {
-          rec.far_sum[std::size_t(b)] += sum[std::size_t(b)];
-          rec.far_count[std::size_t(b)] += count[std::size_t(b)];
-        }
+    const auto fr = rec.record(flow);
+    h5->append("discs", "position", fr.step, fr.time, fr.position.data(), nd, 2);
+    h5->append("discs", "velocity", fr.step, fr.time, fr.velocity.data(), nd, 2);
+    h5->append_observable("u_oil", fr.step, fr.time, fr.u_oil);
+    h5->append_observable("u_d", fr.step, fr.time, fr.u_d);
+    if (far) {
+      h5->append_observable("u_far_mean", fr.step, fr.time, fr.far_speeds[0]);
+      h5->append_observable("u_far_axis", fr.step, fr.time, fr.far_speeds[1]);
     }
   };
   const auto checkpoint = [&] {
     h5->flush();
     io::CheckpointWriter ck(out.checkpoint);
-    const auto put = [&](const std::string& name, const auto& data, std::size_t cols) {
-      ck.put(name, data.data(), cols ? std::vector<std::size_t>{data.size() / cols, cols}
-                                     : std::vector<std::size_t>{data.size()});
-    };
-    put("solvent/x", driver::to_row_major(flow.positions()), 2);
-    put("solvent/v", driver::to_row_major(flow.velocities()), 2);
-    put("discs/x", driver::to_row_major(flow.discs().x), 2);
-    put("discs/u", driver::to_row_major(flow.discs().u), 2);
-    put("discs/omega", driver::to_host_vector(flow.discs().omega), 0);
-    put("record/steps", rec.steps, 0);
-    put("record/x", rec.x, 0);
-    put("record/y", rec.y, 0);
-    put("record/u_d", rec.u_d, 0);
-    put("record/u_oil", rec.u_oil, 0);
-    if (far.bins > 0) {
-      put("record/far_sum", rec.far_sum, 0);
-      put("record/far_count", rec.far_count, 0);
-    }
-    put("record/last_folded", last_folded, 0);
-    put("record/image_shift", image_shift, 0);
-    ck.put_scalar("step", std::int64_t(flow.steps_done()));
+    scene::SaveFields save(ck);
+    flow.checkpoint_fields(save);
+    rec.checkpoint_fields(save);
     ck.put_string("scene", scene_signature(par));
     ck.commit();
   };
@@ -331,27 +166,9 @@ void run(const Parameters& par, const cli::DriverApp& app) {
   const std::int64_t first = std::int64_t(flow.steps_done());
   cli::ProgressLine progress(total_steps - first, std::int64_t(flow.num_solvent()), !app.quiet());
   const auto wall_start = std::chrono::steady_clock::now();
-  // The NaN watchdog (scenes/common/nan_watchdog.hpp), also checked before every frame and
-  // checkpoint: the last checkpoint always holds a finite state. The discs' steric force is the
-  // one force term; the solvent moves by streaming and collisions only.
-  auto& discs = flow.discs();
-  watchdog::Watched watched;
-  watched.state = {watchdog::Field::of("solvent position", flow.positions()),
-                   watchdog::Field::of("solvent velocity", flow.velocities()),
-                   watchdog::Field::of("disc position", discs.x), watchdog::Field::of("disc velocity", discs.u),
-                   watchdog::Field::of("disc angular velocity", discs.omega)};
-  watched.step = [&] { flow.step(); };
-  watched.steps = [&] { return (long long)flow.steps_done(); };
-  watched.set_steps = [&](long long s) { flow.restore(std::uint64_t(s)); };
-  watched.terms = {{"disc–disc and disc–wall WCA (eq. B.4)", [&] {
-                      discs.clear_accumulators();
-                      mpc::accumulate_disc_wca(flow.wca(), discs);
-                    }}};
-  const auto disc_force = discs.force;
-  watched.first_bad_force = [disc_force] { return first_non_finite(disc_force, "mesoflow::watchdog::term_check"); };
-  watched.max_force = [disc_force] { return max_norm(disc_force, "mesoflow::watchdog::term_max"); };
-  watched.particle = [](long long i) { return "particle/disc " + std::to_string(i); };
-  watchdog::NanWatchdog watch(std::move(watched), par.check_every);
+  // The NaN watchdog, also checked before every frame and checkpoint: the last checkpoint always
+  // holds a finite state.
+  watchdog::NanWatchdog watch(flow.watched(), par.check_every);
   while (std::int64_t(flow.steps_done()) < total_steps) {
     flow.step();
     watch.after_step();
@@ -367,7 +184,7 @@ void run(const Parameters& par, const cli::DriverApp& app) {
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
   h5->write_xdmf(out.xdmf);
   h5.reset();
-  if (far.bins > 0)
+  if (far)
     driver::write_observables_csv(out.trajectory, out.csv, {"u_oil", "u_d", "u_far_mean", "u_far_axis"});
   else
     driver::write_observables_csv(out.trajectory, out.csv, {"u_oil", "u_d"});
@@ -388,26 +205,23 @@ void run(const Parameters& par, const cli::DriverApp& app) {
   const double reynolds = rho * uoil * f.disc_radius / eta;
   const double peclet = uoil * f.disc_radius * f.friction / f.kT;  // D = k_BT/γ (plate friction dominates)
 
-  std::ofstream json(out.summary);
-  json << std::setprecision(8) << "{\n  \"driver\": \"crystal\",\n  \"discs\": " << nd
-       << ",\n  \"solvent_particles\": " << flow.num_solvent() << ",\n  \"measured_frames\": " << frames
-       << ",\n  \"u_d\": " << ud << ",\n  \"u_oil\": " << uoil << ",\n  \"K\": " << K
-       << ",\n  \"wall_virtual\": \"" << par.wall_virtual << "\""
-       << ",\n  \"viscosity_b3\": " << eta << ",\n  \"reynolds\": " << reynolds << ",\n  \"peclet\": " << peclet;
-  if (far.bins > 0) {
+  cli::Json j{{"driver", "crystal"}, {"discs", nd}, {"solvent_particles", flow.num_solvent()},
+              {"measured_frames", frames}, {"u_d", ud}, {"u_oil", uoil}, {"K", K}, {"wall_virtual", par.wall_virtual},
+              {"viscosity_b3", eta}, {"reynolds", reynolds}, {"peclet", peclet}};
+  if (far) {
     // The far-field profile over the measured frames, its mean and its centre line.
+    const auto& ff = rec.far_field();
     std::ofstream csv(base + "_far_profile.csv");
     csv << std::setprecision(10) << "y,u_x,samples\n";
-    for (int b = 0; b < far.bins; ++b) {
+    for (int b = 0; b < ff.bins; ++b) {
       const double c = rec.far_count[std::size_t(b)];
-      csv << (b + 0.5) * far.bin_width << "," << (c > 0 ? rec.far_sum[std::size_t(b)] / c : 0.0) << "," << c << "\n";
+      csv << (b + 0.5) * ff.bin_width << "," << (c > 0 ? rec.far_sum[std::size_t(b)] / c : 0.0) << "," << c << "\n";
     }
-    const auto [u_far, u_axis] = far.speeds(rec.far_sum, rec.far_count, f.width, f.cell_size);
-    json << ",\n  \"far_field\": {\"from_disc\": " << far.from_disc << ", \"u_mean\": " << u_far
-         << ", \"u_axis\": " << u_axis << ", \"K_mean\": " << (u_far != 0 ? ud / u_far : 0.0)
-         << ", \"K_axis\": " << (u_axis != 0 ? ud / u_axis : 0.0) << "}";
+    const auto [u_far, u_axis] = rec.far_speeds();
+    j["far_field"] = {{"from_disc", ff.from_disc}, {"u_mean", u_far}, {"u_axis", u_axis},
+                      {"K_mean", u_far != 0 ? ud / u_far : 0.0}, {"K_axis", u_axis != 0 ? ud / u_axis : 0.0}};
     if (!app.quiet())
-      std::cout << "crystal: far from the disc (≥ " << far.from_disc << " Δx): mean oil speed " << u_far
+      std::cout << "crystal: far from the disc (≥ " << ff.from_disc << " Δx): mean oil speed " << u_far
                 << ", on the axis " << u_axis << "; u_d/u_axis = " << (u_axis != 0 ? ud / u_axis : 0.0) << "\n";
   }
   if (nd >= 2) {
@@ -425,17 +239,24 @@ void run(const Parameters& par, const cli::DriverApp& app) {
     crystal::write_phonon_analysis(base + "_phonons.h5", cp, spectra, corr);
     const crystal::DispersionTheory theory(cp);
     crystal::write_theory_csv(base + "_theory.csv", theory);
-    json << ",\n  \"theory_K\": " << ud / theory_uoil << ",\n  \"spacing\": " << spacing << ",\n  \"B\": " << theory.B() << ",\n  \"beta\": " << theory.beta()
-         << ",\n  \"phase_velocity\": " << theory.phase_velocity() << ",\n  \"frame_interval\": " << dt_frame;
+    j["theory_K"] = ud / theory_uoil;
+    j["spacing"] = spacing;
+    j["B"] = theory.B();
+    j["beta"] = theory.beta();
+    j["phase_velocity"] = theory.phase_velocity();
+    j["frame_interval"] = dt_frame;
     if (!par.no_plot) {
       const std::string png = base + "_phonons.png";
       driver::plot_with_matplotlib("crystal", "plot_crystal.py", {base + "_phonons.h5", png}, png, app.quiet());
     }
   }
-  json << ",\n  \"resumed_from_step\": " << (par.restart ? first : 0) << ",\n  \"steps_run\": " << total_steps - first
-       << ",\n  \"wall_seconds\": " << wall
-       << ",\n  \"steps_per_second\": " << (wall > 0 ? double(total_steps - first) / wall : 0.0)
-       << ",\n  \"kokkos\": \"" << kokkos_configuration() << "\"\n}\n";
+  j["components"] = flow.components();
+  j["resumed_from_step"] = par.restart ? first : 0;
+  j["steps_run"] = total_steps - first;
+  j["wall_seconds"] = wall;
+  j["steps_per_second"] = wall > 0 ? double(total_steps - first) / wall : 0.0;
+  j["kokkos"] = kokkos_configuration();
+  cli::write_summary(out.summary, j);
   if (!app.quiet())
     std::cout << "crystal: " << nd << " discs, " << flow.num_solvent() << " solvent particles, " << frames
               << " measured frames; u_d = " << ud << ", u_oil = " << uoil << " Δx/τ, K = " << K << ", Re = " << reynolds
@@ -489,17 +310,7 @@ int main(int argc, char** argv) {
   app.add_flag("--no-plot", par.no_plot, "do not write the PNG plot");
   return app.run(argc, argv, [&] {
     // WCA contacts of the discs and the solvent's bounce-back (kernels/mpc/stability.hpp).
-    mesoflow::mpc::DiscStiffnessInputs s;
-    s.cell_size = f.cell_size;
-    s.density = f.density;
-    s.mass = f.mass;
-    s.kT = f.kT;
-    s.disc_radius = f.disc_radius;
-    s.body_acceleration = f.body_acceleration;
-    s.wca_epsilon = f.wca_epsilon;
-    s.wca_r0 = f.wca_r0;
-    s.discs = par.discs > 0;
-    const auto limit = mesoflow::mpc::disc_stability(s);
+    const auto limit = mesoflow::mpc::channel_flow_stability(f, par.discs > 0);
     mesoflow::cli::check_time_step("crystal", f.h, {limit.max_dt(), limit.limiting_term("τ")}, par.force_dt);
     mesoflow::KokkosScope kokkos(par.threads);
     if (par.precision == "float")

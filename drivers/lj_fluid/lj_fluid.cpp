@@ -15,6 +15,7 @@
 // observables, parameters), <out>.xdmf (ParaView), <out>.csv (observables), <out>.json (summary),
 // <out>.ckpt.h5 (checkpoint, replaced atomically; --restart continues from it).
 #include "drivers/common/cli.hpp"
+#include "drivers/common/json_summary.hpp"
 #include "scenes/common/nan_watchdog.hpp"
 #include "drivers/common/output_paths.hpp"
 #include "drivers/common/particle_io.hpp"
@@ -28,6 +29,7 @@
 #include "kernels/common/random.hpp"
 #include "kernels/common/reductions.hpp"
 #include "kernels/common/velocity_verlet.hpp"
+#include "scenes/lj_fluid/lj_fluid_scene.hpp"
 
 #include <chrono>
 #include <cmath>
@@ -58,54 +60,6 @@ struct Parameters {
   int threads = 0;
   bool restart = false;
 };
-
-template <int D, class Real, class Exec>
-void place_on_lattice(const Particles<D, Real, Exec>& p, Real L, std::uint64_t seed) {
-  const int n = int(p.size());
-  const int per_side = int(std::ceil(std::pow(double(n), 1.0 / D) - 1e-9));
-  const Real a = L / Real(per_side);
-  const auto x = p.x;
-  Kokkos::parallel_for(
-      "mesoflow::lj_fluid::lattice", Kokkos::RangePolicy<Exec>(0, n), KOKKOS_LAMBDA(int i) {
-        RandomStream jitter(seed, 0, stream_tag::initial_condition, std::uint32_t(i), 0);
-        int site = i;
-        for (int d = 0; d < D; ++d) {
-          x(i, d) = (Real(site % per_side) + Real(0.5) + Real(0.1) * jitter.template uniform_symmetric<Real>()) * a;
-          site /= per_side;
-        }
-      });
-}
-
-// Maxwell velocities at k_BT with zero total momentum, rescaled to exactly k_BT.
-template <int D, class Real, class Exec>
-void thermalize(const Particles<D, Real, Exec>& p, double kT, std::uint64_t seed) {
-  const auto v = p.v;
-  const Real sd = Real(std::sqrt(kT));
-  Kokkos::parallel_for(
-      "mesoflow::lj_fluid::maxwell", Kokkos::RangePolicy<Exec>(0, p.size()), KOKKOS_LAMBDA(int i) {
-        RandomStream g(seed, 0, stream_tag::initial_condition, std::uint32_t(i), 1);
-        for (int d = 0; d < D; ++d) v(i, d) = sd * g.template normal<Real>();
-      });
-  const auto P = momentum(p);
-  double mass = 0;
-  const auto m = p.mass;
-  Kokkos::parallel_reduce(
-      "mesoflow::lj_fluid::total_mass", Kokkos::RangePolicy<Exec>(0, p.size()),
-      KOKKOS_LAMBDA(int i, double& acc) { acc += m(i); }, mass);
-  Real drift[D];
-  for (int d = 0; d < D; ++d) drift[d] = Real(P[d] / mass);
-  const double dof = double(D) * (double(p.size()) - 1.0);
-  const double ke = kinetic_energy(p) - 0.5 * mass * [&] {
-    double s = 0;
-    for (int d = 0; d < D; ++d) s += double(drift[d]) * drift[d];
-    return s;
-  }();
-  const Real scale = Real(std::sqrt(kT * dof / (2.0 * ke)));
-  Kokkos::parallel_for(
-      "mesoflow::lj_fluid::rescale", Kokkos::RangePolicy<Exec>(0, p.size()), KOKKOS_LAMBDA(int i) {
-        for (int d = 0; d < D; ++d) v(i, d) = scale * (v(i, d) - drift[d]);
-      });
-}
 
 template <int D, class Real>
 void run(const Parameters& par, const cli::DriverApp& app) {
@@ -141,7 +95,7 @@ void run(const Parameters& par, const cli::DriverApp& app) {
     h5.emplace(io::H5mdWriter::resume(out.trajectory, step));
     if (!app.quiet()) std::cerr << "lj_fluid: resumed from " << out.checkpoint << " at step " << step << "\n";
   } else {
-    place_on_lattice(p, L, std::uint64_t(par.seed));
+    lj_fluid::place_on_lattice(p, L, std::uint64_t(par.seed));
     FireParameters fire;
     fire.dt_start = par.dt;
     fire.dt_max = 10 * par.dt;
@@ -151,7 +105,7 @@ void run(const Parameters& par, const cli::DriverApp& app) {
     if (!app.quiet())
       std::cerr << "lj_fluid: FIRE quench " << quench.iterations << " iterations, U/N = "
               << quench.energy / par.particles << ", max |F| = " << quench.max_force << "\n";
-    thermalize(p, par.temperature, std::uint64_t(par.seed));
+    lj_fluid::thermalize(p, par.temperature, std::uint64_t(par.seed));
     potential = pair_forces();
     h5.emplace(out.trajectory, "mesoflow", MESOFLOW_VERSION, "mesoflow lj_fluid");
     for (const auto& [key, value] : app.resolved_parameters()) h5->set_parameter(key, value);
@@ -234,15 +188,14 @@ void run(const Parameters& par, const cli::DriverApp& app) {
   h5.reset();
   driver::write_observables_csv(out.trajectory, out.csv,
                                 {"kinetic_energy", "potential_energy", "total_energy", "temperature"});
-  std::ofstream json(out.summary);
   const double steps_per_second = step > first && wall > 0 ? double(step - first) / wall : 0.0;
-  json << std::setprecision(10) << "{\n  \"driver\": \"lj_fluid\",\n  \"dimension\": " << D << ",\n  \"precision\": \""
-       << par.precision << "\",\n  \"particles\": " << par.particles << ",\n  \"resumed_from_step\": " << (par.restart ? first : 0)
-       << ",\n  \"steps_run\": " << step - first
-       << ",\n  \"wall_seconds\": " << wall << ",\n  \"steps_per_second\": " << steps_per_second
-       << ",\n  \"particle_updates_per_second\": " << steps_per_second * par.particles
-       << ",\n  \"neighbor_list_builds\": " << list.num_builds() - builds_before << ",\n  \"kokkos\": \""
-       << kokkos_configuration() << "\"\n}\n";
+  cli::write_summary(out.summary, {{"driver", "lj_fluid"}, {"dimension", D}, {"precision", par.precision},
+                                   {"particles", par.particles},
+                                   {"resumed_from_step", par.restart ? first : 0}, {"steps_run", step - first}, {"wall_seconds", wall},
+                                   {"steps_per_second", steps_per_second},
+                                   {"particle_updates_per_second", steps_per_second * par.particles},
+                                   {"neighbor_list_builds", list.num_builds() - builds_before},
+                                   {"kokkos", kokkos_configuration()}});
   if (!app.quiet()) timers.print(std::cout);
 }
 

@@ -35,9 +35,12 @@
 // particle can get uniform random noise of a given amplitude per component (host RNG: initial
 // conditions only), its net momentum removed.
 //
-// Step: SphSystem::step(extra), extra adding the bond forces of eq. (7) to f^{n+1} after the SPH
-// pair loop and before the second half kick of eq. (15): f_i = (eq. 5)_i + Σ_bonds F_i. The body
-// force F of eq. (2) (optional) drives the fluids only, outer and inner (§4; particle_types.hpp).
+// Step: SphSystem::step_composed with the scene's terms, declared once (declare_terms(),
+// scenes/common/term_list.hpp): the SPH pressure (eqs. 5–6), the viscous force (eq. 5) and the body
+// force F of eq. (2) (optional; it drives the fluids only, outer and inner, §4, particle_types.hpp)
+// in the one SPH pair loop, then the membrane bonds of eq. (7), added to f^{n+1} before the second
+// half kick of eq. (15): f_i = (eq. 5)_i + Σ_bonds F_i. The same list gives the NaN watchdog its
+// terms alone and the summaries their components.
 //
 // Memory sorting (SphOptions::sort_every, default 20 rebuilds; 0: never): after each sort the
 // bond ends, the bonds' CSR rows and the membrane vertex → particle map are renumbered with the
@@ -81,7 +84,9 @@
 #pragma once
 
 #include "scenes/capsule/channel_geometry.hpp"
+#include "kernels/msm/membrane_moduli.hpp"
 #include "scenes/common/nan_watchdog.hpp"
+#include "scenes/common/term_list.hpp"
 #include "scenes/common/time_step_limit.hpp"
 #include "kernels/common/box.hpp"
 #include "kernels/common/particle_sort.hpp"
@@ -251,15 +256,28 @@ class CapsuleScene {
     sys_.set_dt(Real(par_.dt ? *par_.dt : limit));
   }
 
-  // One step of eqs. (11)–(16) with the bond forces of eq. (7).
+  // The term list's launches hold `this`: a scene stays where it was built.
+  CapsuleScene(const CapsuleScene&) = delete;
+  CapsuleScene& operator=(const CapsuleScene&) = delete;
+
+  // One step of eqs. (11)–(16): the term list's launches (the SPH pair loop, the bonds of eq. 7).
   void step() {
-    sys_.step([this](const auto& p) { add_membrane_forces(p); });
+    sys_.step_composed([this] { terms_.evaluate(); });
     ++steps_;
   }
-  // F of eq. (2) on the fluids (the constriction driver's flow control).
+  // F of eq. (2) on the fluids (the constriction's flow control).
   void set_body_force(const sph::BodyForce<3, Real>& body) {
     body_force_ = body;
     sys_.set_body_force(body);
+    declare_terms();
+  }
+  // The scene's terms (see the file comment) and the summary's component lines.
+  const scene::TermList<>& terms() const { return terms_; }
+  std::vector<std::string> components() const {
+    std::vector<std::string> c{std::to_string(num_fluid()) + " fluid, " + std::to_string(num_walls()) + " wall and " +
+                               std::to_string(num_membrane()) + " membrane particles"};
+    for (auto& line : terms_.components()) c.push_back(std::move(line));
+    return c;
   }
   const sph::BodyForce<3, Real>& body_force() const { return body_force_; }
   // Steps run (the SPH system's own counter also counts the steps a NaN-watchdog replay reruns).
@@ -409,8 +427,7 @@ class CapsuleScene {
   // it for the spring network (capsule_mesh.hpp: exact for the crossed network at h_t = δ_ave); the
   // capillary number is Ca = μ U a/G_s.
   double surface_shear_modulus() const {
-    const double E = 5 * par_.k_b / (std::sqrt(3.0) * mesh_.mean_in_layer_bond_length());
-    return E * par_.thickness / (2 * (1 + 0.25));
+    return msm::surface_shear_modulus(par_.k_b, mesh_.mean_in_layer_bond_length(), par_.thickness);
   }
 
   // The NaN watchdog's view of the scene (see the file comment). The scene must outlive it.
@@ -449,15 +466,7 @@ class CapsuleScene {
       sys_.resume(kept->counters, kept->reference);
       seen_sorts_ = sys_.num_sorts();
     };
-    auto alone = std::make_shared<TermsAlone>(*this);
-    w.terms = {{"SPH pressure (eqs. 5-6)", [this, alone] { alone->pair(*this, false, true, false); }},
-               {"SPH viscous force μ (eq. 5)", [this, alone] { alone->pair(*this, true, false, false); }, true}};
-    if (body_force_.active())
-      w.terms.push_back({"body force F (eq. 2)", [this, alone] { alone->pair(*this, true, true, true); }});
-    w.terms.push_back({"membrane bonds k_b (eq. 7)", [this] {
-                         sys_.particles.zero_forces();
-                         bonds_.accumulate(sys_.particles, sys_.box());
-                       }});
+    w.terms = terms_.watchdog_terms();
     const auto slots = particle_slot_;
     const int outer = num_outer_fluid(), fluid = num_fluid(), membrane = membrane_offset(),
               per_layer = mesh_.vertices_per_layer;
@@ -726,7 +735,29 @@ class CapsuleScene {
     set_body_force(body_force);
   }
 
-  // The extra forces of SphSystem::step: follow a memory sort of this step, then eq. (7).
+  // The terms, once (see the file comment); re-declared when the body force changes.
+  void declare_terms() {
+    terms_ = scene::TermList<>{};
+    const auto pair_alone = [this](bool drop_pressure, bool drop_viscosity, bool with_body) {
+      return [this, drop_pressure, drop_viscosity, with_body] {
+        if (!alone_) alone_ = std::make_shared<TermsAlone>(*this);
+        alone_->pair(*this, drop_pressure, drop_viscosity, with_body);
+      };
+    };
+    terms_.term({"SPH pressure", "eqs. 5-6", false, true, pair_alone(false, true, false)});
+    terms_.term({"SPH viscous force μ", "eq. 5", true, true, pair_alone(true, false, false)});
+    terms_.term({"body force F", "eq. 2", false, body_force_.active(), pair_alone(true, true, true)});
+    terms_.term({"membrane bonds k_b", "eq. 7", false, true, [this] {
+                   sys_.particles.zero_forces();
+                   bonds_.accumulate(sys_.particles, sys_.box());
+                 }});
+    terms_.launch("SPH pair loop (one kernel: rho rate of eq. 4, force of eq. 5)",
+                  {"SPH pressure", "SPH viscous force μ", "body force F"}, [this] { sys_.compute_rates(); });
+    terms_.launch("membrane bonds (one kernel)", {"membrane bonds k_b"},
+                  [this] { add_membrane_forces(sys_.particles); });
+  }
+
+  // The bond forces after the pair loop: follow a memory sort of this step, then eq. (7).
   void add_membrane_forces(const Particles<3, Real, ExecSpace>& p) {
     const int sorts = sys_.num_sorts();
     if (sorts != seen_sorts_) {
@@ -753,6 +784,8 @@ class CapsuleScene {
   long long steps_ = 0;
   sph::BodyForce<3, Real> body_force_{};
   CapsuleTimeStepLimits limits_;
+  scene::TermList<> terms_;
+  std::shared_ptr<TermsAlone> alone_;  // scratch of the terms alone, made at first use
   mutable typename Particles<3, Real, ExecSpace>::vector_view::HostMirror x_host_;
   mutable typename int_view::HostMirror slot_host_;
 };

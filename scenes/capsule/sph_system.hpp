@@ -142,6 +142,18 @@ class SphSystem {
     ++step_;
   }
 
+  // A step whose force evaluation the caller composes (a scene's term list, capsule_scene.hpp):
+  // forces() runs between the first and the second half kick, calls compute_rates() (the SPH pair
+  // loop, which assigns ρ̇ and f) and adds whatever it adds after it: step(extra) is
+  // step_composed([&] { compute_rates(); extra(particles); }).
+  template <class Forces>
+  void step_composed(Forces&& forces) {
+    integrator_.first_half(particles, rho, drho, u_bar);
+    forces();
+    integrator_.second_half(particles, rho, drho);
+    ++step_;
+  }
+
   // The stability limits at the current state (a host reduction: not every step).
   SphTimeStepLimits time_step_limits(const SphTimeStepCoefficients& c = {}) const {
     const auto mu_ = mu, rho_ = rho;
@@ -219,7 +231,8 @@ class SphSystem {
   // the wall surface (no_slip_walls.hpp); empty otherwise.
   WallGeometry<D, Real, ExecSpace> wall_geometry;
 
- private:
+  // Neighbor-list upkeep (with the memory sorts), the packed rows with the pressures of eq. (6),
+  // and the fused pair loop: ρ̇ of eq. (4) and f of eq. (5) with the body force.
   void compute_rates() {
     if (list_->update(particles, box_)) {
       wrap_positions(particles, box_);
@@ -235,6 +248,7 @@ class SphSystem {
     pair_.compute(rows_, particles.type, *list_, box_, particles.f, drho, wall_geometry, morris_);
   }
 
+ private:
   Kernel kernel_;
   TaitEquationOfState<Real> eos_;
   Box<D, Real> box_;

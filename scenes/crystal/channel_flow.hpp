@@ -22,6 +22,11 @@
 //      (MpcCollision::sort_by_cell: solvent particles are anonymous), for cache locality
 // With no walls, γ = 0 and g = 0 the momentum of solvent + discs is conserved to round-off.
 //
+// The stages are the scene's terms, declared once (declare_terms(), scenes/common/term_list.hpp):
+// step() runs the list's launches in order, components() names them, and the NaN watchdog
+// (watched()) takes the one force term, the discs' WCA (eq. B.4), alone; the solvent moves by
+// streaming and collisions only. checkpoint_fields() declares the state of a restart once.
+//
 // Units: cell size a = Δx, solvent mass m, k_BT; τ = Δx √(m/k_BT). Disc mass M = ρ π R² with the
 // solvent's mass density ρ = n m / a² (Appendix B). Initial state: solvent particles uniform at
 // density n in the channel outside the discs (N = round(n (L W − N_d π R²)/a²)), drawn from the
@@ -40,10 +45,13 @@
 #include "kernels/mpc/maxwell_boltzmann.hpp"
 #include "kernels/mpc/mpc_collision.hpp"
 #include "kernels/mpc/rigid_discs.hpp"
+#include "kernels/mpc/stability.hpp"
 #include "kernels/mpc/streaming.hpp"
 #include "kernels/mpc/virtual_particles.hpp"
 #include "kernels/mpc/wall_bounce_back.hpp"
 #include "kernels/mpc/wall_mirror_particles.hpp"
+#include "scenes/common/nan_watchdog.hpp"
+#include "scenes/common/term_list.hpp"
 
 #include <array>
 #include <cmath>
@@ -93,6 +101,46 @@ struct ChannelFlowParameters {
   int sort_interval = 25;  // steps between reorderings of the solvent by collision cell; 0: never
 };
 
+// The parameters at another precision.
+template <class To, class From>
+ChannelFlowParameters<To> converted(const ChannelFlowParameters<From>& p) {
+  ChannelFlowParameters<To> q;
+  q.length = To(p.length);
+  q.width = To(p.width);
+  q.walls = p.walls;
+  q.wall_virtual = p.wall_virtual;
+  q.cell_size = To(p.cell_size);
+  q.density = To(p.density);
+  q.kT = To(p.kT);
+  q.mass = To(p.mass);
+  q.h = To(p.h);
+  q.rule = p.rule;
+  q.srd_angle = To(p.srd_angle);
+  q.body_acceleration = To(p.body_acceleration);
+  q.disc_radius = To(p.disc_radius);
+  q.friction = To(p.friction);
+  q.wca_epsilon = To(p.wca_epsilon);
+  q.wca_r0 = To(p.wca_r0);
+  q.seed = p.seed;
+  q.sort_interval = p.sort_interval;
+  return q;
+}
+
+// The explicit limit of the discs' WCA contacts and the solvent's bounce-back (kernels/mpc/stability.hpp).
+inline StabilityEstimate channel_flow_stability(const ChannelFlowParameters<double>& f, bool discs) {
+  DiscStiffnessInputs s;
+  s.cell_size = f.cell_size;
+  s.density = f.density;
+  s.mass = f.mass;
+  s.kT = f.kT;
+  s.disc_radius = f.disc_radius;
+  s.body_acceleration = f.body_acceleration;
+  s.wca_epsilon = f.wca_epsilon;
+  s.wca_r0 = f.wca_r0;
+  s.discs = discs;
+  return disc_stability(s);
+}
+
 template <class Real, class ExecSpace = Kokkos::DefaultExecutionSpace>
 class ChannelFlow {
  public:
@@ -128,37 +176,59 @@ class ChannelFlow {
     v_ = vector_view(Kokkos::ViewAllocateWithoutInitializing("mesoflow::mpc::channel::v"),
                      collision_.particle_capacity());
     initialise_solvent();
+    declare_terms();
   }
 
-  // One MPC step (see the file comment); no allocation. The mirror wall rule returns one count to
-  // the host per step; otherwise there is no host transfer.
+  // The term list's launches hold `this`: a scene stays where it was built.
+  ChannelFlow(const ChannelFlow&) = delete;
+  ChannelFlow& operator=(const ChannelFlow&) = delete;
+
+  // One MPC step (see the file comment): the term list's launches; no allocation. The mirror wall
+  // rule returns one count to the host per step; otherwise there is no host transfer.
   void step() {
-    const std::uint64_t s = step_;
-    const Real h = p_.h;
-    const bool has_discs = discs_.size() > 0;
-    if (has_discs) {
-      discs_.clear_accumulators();
-      discs_.move(h);
-    }
-    stream(x_, v_, h, g_, collision_.grid());
-    if (walls_) walls_->bounce_back(x_, v_, h);
-    if (has_discs) disc_bounce_back_.apply(x_, v_, h, discs_);
-    collision_.shift_grid(s);
-    std::size_t nv = 0;
-    if (wall_virtual_) nv += wall_virtual_->generate(collision_.grid(), xv_, vv_, 0, s);
-    if (wall_mirror_) nv += wall_mirror_->generate(collision_.grid(), x_, v_, num_solvent(), xv_, vv_, 0);
-    const std::size_t disc_offset = nv;
-    if (disc_virtual_) nv += disc_virtual_->generate(discs_, xv_, vv_, disc_offset, s);
-    collision_.collide(x_, v_, xv_, vv_, nv, s);
-    if (wall_virtual_) wall_virtual_->transfer(vv_, 0, *walls_);
-    if (wall_mirror_) wall_mirror_->transfer(xv_, vv_, 0, *walls_);
-    if (disc_virtual_) disc_virtual_->transfer(xv_, vv_, disc_offset, discs_);
-    if (has_discs) {
-      accumulate_disc_wca(wca_, discs_);
-      discs_.update_velocities(h, p_.friction);
-    }
+    terms_.evaluate();
     ++step_;
     if (p_.sort_interval > 0 && step_ % std::uint64_t(p_.sort_interval) == 0) collision_.sort_by_cell(x_, v_);
+  }
+
+  const scene::TermList<>& terms() const { return terms_; }
+  std::vector<std::string> components() const {
+    std::vector<std::string> c{std::to_string(num_solvent()) + " solvent particles, " +
+                               std::to_string(discs_.size()) + " discs"};
+    for (auto& line : terms_.components()) c.push_back(std::move(line));
+    return c;
+  }
+
+  // The NaN watchdog's view (scenes/common/nan_watchdog.hpp): solvent and disc state, the one force
+  // term (the discs' WCA), particles named by index. The scene must outlive it.
+  watchdog::Watched watched() {
+    watchdog::Watched w;
+    w.state = {watchdog::Field::of("solvent position", x_), watchdog::Field::of("solvent velocity", v_),
+               watchdog::Field::of("disc position", discs_.x), watchdog::Field::of("disc velocity", discs_.u),
+               watchdog::Field::of("disc angular velocity", discs_.omega)};
+    w.step = [this] { step(); };
+    w.steps = [this] { return (long long)step_; };
+    w.set_steps = [this](long long s) { restore(std::uint64_t(s)); };
+    w.terms = terms_.watchdog_terms();
+    const auto disc_force = discs_.force;
+    w.first_bad_force = [disc_force] { return first_non_finite(disc_force, "mesoflow::watchdog::term_check"); };
+    w.max_force = [disc_force] { return max_norm(disc_force, "mesoflow::watchdog::term_max"); };
+    w.particle = [](long long i) { return "particle/disc " + std::to_string(i); };
+    return w;
+  }
+
+  // The state of a restart, declared once for writing and reading (scenes/common/checkpoint_fields.hpp):
+  // solvent and disc state and the step count; a load continues from it (restore()).
+  template <class Archive>
+  void checkpoint_fields(Archive& a) {
+    a("solvent/x", x_);
+    a("solvent/v", v_);
+    a("discs/x", discs_.x);
+    a("discs/u", discs_.u);
+    a("discs/omega", discs_.omega);
+    std::int64_t s = std::int64_t(step_);
+    a("step", s);
+    if (Archive::loading) restore(std::uint64_t(s));
   }
 
   // After the solvent and disc state were overwritten (a restart from a checkpoint): continue as
@@ -266,6 +336,56 @@ class ChannelFlow {
     return total;
   }
 
+  // The step's stages, once, in the order of the file comment; a launch runs when one of its terms
+  // acts. The WCA term alone (for the watchdog) leaves the discs' force in discs().force.
+  void declare_terms() {
+    const bool discs = discs_.size() > 0, walls = walls_.has_value();
+    terms_.term({"disc drift", "", false, discs, {}});
+    terms_.term({"streaming", "eq. B.1", false, true, {}});
+    terms_.term({"body acceleration g", "eq. B.1", false, g_[0] != Real(0) || g_[1] != Real(0), {}});
+    terms_.term({"wall bounce-back", "", true, walls, {}});
+    terms_.term({"disc bounce-back", "", true, discs, {}});
+    terms_.term({"MPC collision", "eq. B.2", true, true, {}});
+    terms_.term({"wall virtual particles", "", true, walls, {}});
+    terms_.term({"disc virtual particles", "", true, discs, {}});
+    terms_.term({"disc–disc and disc–wall WCA", "eq. B.4", false, discs, [this] {
+                   discs_.clear_accumulators();
+                   accumulate_disc_wca(wca_, discs_);
+                 }});
+    terms_.term({"plate friction γ", "", true, discs && p_.friction != Real(0), {}});
+    terms_.term({"disc kick", "", false, discs, {}});
+    terms_.launch("disc drift (rigid_discs.hpp)", {"disc drift"}, [this] {
+      discs_.clear_accumulators();
+      discs_.move(p_.h);
+    });
+    terms_.launch("streaming (one kernel)", {"streaming", "body acceleration g"},
+                  [this] { stream(x_, v_, p_.h, g_, collision_.grid()); });
+    terms_.launch("wall bounce-back (one kernel)", {"wall bounce-back"}, [this] { walls_->bounce_back(x_, v_, p_.h); });
+    terms_.launch("disc bounce-back (one kernel)", {"disc bounce-back"},
+                  [this] { disc_bounce_back_.apply(x_, v_, p_.h, discs_); });
+    terms_.launch("collision (grid shift, virtual particles, collision, transfer)",
+                  {"MPC collision", "wall virtual particles", "disc virtual particles"}, [this] { collide(); });
+    terms_.launch("disc forces and kick", {"disc–disc and disc–wall WCA", "plate friction γ", "disc kick"}, [this] {
+      accumulate_disc_wca(wca_, discs_);
+      discs_.update_velocities(p_.h, p_.friction);
+    });
+  }
+
+  // Steps 5–8 of the file comment.
+  void collide() {
+    const std::uint64_t s = step_;
+    collision_.shift_grid(s);
+    std::size_t nv = 0;
+    if (wall_virtual_) nv += wall_virtual_->generate(collision_.grid(), xv_, vv_, 0, s);
+    if (wall_mirror_) nv += wall_mirror_->generate(collision_.grid(), x_, v_, num_solvent(), xv_, vv_, 0);
+    const std::size_t disc_offset = nv;
+    if (disc_virtual_) nv += disc_virtual_->generate(discs_, xv_, vv_, disc_offset, s);
+    collision_.collide(x_, v_, xv_, vv_, nv, s);
+    if (wall_virtual_) wall_virtual_->transfer(vv_, 0, *walls_);
+    if (wall_mirror_) wall_mirror_->transfer(xv_, vv_, 0, *walls_);
+    if (disc_virtual_) disc_virtual_->transfer(xv_, vv_, disc_offset, discs_);
+  }
+
   void check_disc_centres(const std::vector<std::array<Real, 2>>& c) const {
     const double R = double(p_.disc_radius), L = double(p_.length), W = double(p_.width);
     for (std::size_t k = 0; k < c.size(); ++k) {
@@ -333,6 +453,7 @@ class ChannelFlow {
   std::optional<DiscVirtualParticles<Real, ExecSpace>> disc_virtual_;
   vector_view x_, v_, xv_, vv_;
   std::uint64_t step_ = 0;
+  scene::TermList<> terms_;
 };
 
 }  // namespace mesoflow::mpc

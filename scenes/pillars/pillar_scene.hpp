@@ -190,7 +190,7 @@ FlowSample sample_flow(const mdpd::MdpdSystem<D, Real, Exec>& sys, const SceneGe
 }
 
 // ---------------------------------------------------------------------------------------------
-// The NaN watchdog's view of an MDPD system (scenes/common/nan_watchdog.hpp): watched(sys, seed).
+// The NaN watchdog's view of an MDPD system (scenes/common/nan_watchdog.hpp): watched(sys).
 //
 // State: x, v, the forces of the last step (the first half kick's), masses and tether sites
 // (checked), types, pillar indices and tags (kept); on the host the system's counters (step, rebuilds
@@ -201,81 +201,17 @@ FlowSample sample_flow(const mdpd::MdpdSystem<D, Real, Exec>& sys, const SceneGe
 // pair noise (keyed on step and tags): it retraces the run bit for bit at a fixed thread count.
 // The packed rows and densities are recomputed by every step and are not state.
 //
-// Terms, each alone: the conservative pair force A, B (eq. 9a, with the many-body densities
-// recomputed at the state), the dissipative and random pair forces (eqs. 9b–c, at the current
-// velocities and step), the WCA repulsion of solid cores (if the scene has cores), the tethers k_S
-// (if it has solids), the driving force f_b (if set) and the split Poiseuille force (viscosity mode).
-// Each pair term is its own MdpdPairForce with the other coefficients zero (the kernels of the run,
-// so the same arithmetic); their rows are scratch of the view. Particles are named by tag (the index
-// they had before any sort), with their kind and the index they are stored at.
+// Terms, each alone: the system's term list (MdpdSystem::terms(), mdpd_system.hpp) — the
+// conservative pair force A, B (eq. 9a, with the many-body densities recomputed at the state), the
+// dissipative and random pair forces (eqs. 9b–c, at the current velocities and step), the WCA
+// repulsion of solid cores (if the scene has cores), the tethers k_S (if it has solids), the driving
+// force f_b (if set) and the split Poiseuille force (viscosity mode). Particles are named by tag
+// (the index they had before any sort), with their kind and the index they are stored at.
 
-// xr(i, ρ̄ column) ← rho(i), or 0 where rho is empty.
-template <class Real, class Exec>
-void set_density_column(const mdpd::PackedRows<Real, Exec>& xr, const Kokkos::View<Real*, Exec>& rho) {
-  const bool zero = rho.extent(0) == 0;
-  Kokkos::parallel_for(
-      "mesoflow::pillars::watchdog_density_column", Kokkos::RangePolicy<Exec>(0, xr.extent(0)),
-      KOKKOS_LAMBDA(int i) { xr(i, mdpd::rho_column) = zero ? Real(0) : rho(i); });
-}
-
-// f(i) += fr(i) (the pair forces of packed rows).
+// The view. The system must have begun (or resumed) and must outlive the returned value; its term
+// list is read now, so set the driving region or split force first.
 template <int D, class Real, class Exec>
-void add_packed_forces(const mdpd::PackedRows<Real, Exec>& fr,
-                       const typename Particles<D, Real, Exec>::vector_view& f) {
-  Kokkos::parallel_for(
-      "mesoflow::pillars::watchdog_add_pair_forces", Kokkos::RangePolicy<Exec>(0, f.extent(0)), KOKKOS_LAMBDA(int i) {
-        for (int d = 0; d < D; ++d) f(i, d) += fr(i, d);
-      });
-}
-
-// The pair terms of an MDPD system evaluated alone (see above).
-template <int D, class Real, class Exec>
-struct MdpdTermsAlone {
-  using System = mdpd::MdpdSystem<D, Real, Exec>;
-  using Rows = mdpd::PackedRows<Real, Exec>;
-
-  static mdpd::MdpdParameters only(mdpd::MdpdParameters p, bool conservative, bool thermostat) {
-    if (!conservative) p.A = p.B = 0;
-    if (!thermostat) p.R = 0;
-    return p;
-  }
-
-  MdpdTermsAlone(const System& sys, std::uint64_t seed)
-      : conservative(only(sys.parameters(), true, false), seed, Real(sys.options().wca_epsilon),
-                     Real(sys.options().wca_sigma)),
-        thermostat(only(sys.parameters(), false, true), seed, Real(sys.options().wca_epsilon),
-                   Real(sys.options().wca_sigma)),
-        core(only(sys.parameters(), false, false), seed, Real(sys.options().wca_epsilon),
-             Real(sys.options().wca_sigma)),
-        density(mdpd::DensityWeight<D, Real>(sys.parameters().density_kernel, Real(sys.parameters().r_B))),
-        xr("mesoflow::pillars::watchdog_xr", sys.particles.size()),
-        vr("mesoflow::pillars::watchdog_vr", sys.particles.size()),
-        fr("mesoflow::pillars::watchdog_fr", sys.particles.size()),
-        rho("mesoflow::pillars::watchdog_rho", sys.particles.size()) {}
-
-  // f ← the pair force of `term` alone at the current state.
-  void evaluate(System& sys, mdpd::MdpdPairForce<D, Real, Exec>& term, bool with_density, bool with_core) {
-    const auto& p = sys.particles;
-    mdpd::pack_vectors<D, Real, Exec>(p.x, xr);
-    mdpd::pack_vectors<D, Real, Exec>(p.v, vr);
-    if (with_density) density.compute(xr, sys.neighbor_list(), sys.box(), rho);
-    set_density_column(xr, with_density ? rho : Kokkos::View<Real*, Exec>());
-    term.compute(xr, vr, p.type, sys.tag, sys.neighbor_list(), sys.box(), sys.current_step(), with_core, fr);
-    p.zero_forces();
-    add_packed_forces<D, Real, Exec>(fr, p.f);
-  }
-
-  mdpd::MdpdPairForce<D, Real, Exec> conservative, thermostat, core;
-  mdpd::LocalDensity<D, Real, Exec> density;
-  Rows xr, vr, fr;
-  Kokkos::View<Real*, Exec> rho;
-};
-
-// The view; `seed` is the one the system was made with (the pair noise), `split` the viscosity
-// mode's force. The system must have begun (or resumed) and must outlive the returned value.
-template <int D, class Real, class Exec>
-watchdog::Watched watched(mdpd::MdpdSystem<D, Real, Exec>& sys, std::uint64_t seed,
-                          const mdpd::SplitBodyForce<Real>& split = {}) {
+watchdog::Watched watched(mdpd::MdpdSystem<D, Real, Exec>& sys) {
   using System = mdpd::MdpdSystem<D, Real, Exec>;
   auto& p = sys.particles;
   watchdog::Watched w = watchdog::watch_particles(p);
@@ -297,31 +233,7 @@ watchdog::Watched watched(mdpd::MdpdSystem<D, Real, Exec>& sys, std::uint64_t se
     copy_field(kept->reference, sys.neighbor_reference_positions(), "mesoflow::watchdog::save");
   };
   w.after_restore = [&sys, kept] { sys.resume(kept->counters, kept->reference); };
-  auto alone = std::make_shared<MdpdTermsAlone<D, Real, Exec>>(sys, seed);
-  w.terms = {{"MDPD conservative force A, B (eq. 9a)",
-              [&sys, alone] { alone->evaluate(sys, alone->conservative, true, false); }},
-             {"MDPD dissipative and random forces D, R (eqs. 9b-c)",
-              [&sys, alone] { alone->evaluate(sys, alone->thermostat, false, false); }, true}};
-  if (sys.has_core())
-    w.terms.push_back(
-        {"WCA repulsion of solid cores", [&sys, alone] { alone->evaluate(sys, alone->core, false, true); }});
-  if (sys.has_solids()) {
-    const mdpd::TetherSprings<D, Real, Exec> tethers(Real(sys.options().k_S));
-    w.terms.push_back({"tether springs k_S", [&sys, tethers] {
-                         sys.particles.zero_forces();
-                         tethers.accumulate(sys.particles, sys.site, sys.box());
-                       }});
-  }
-  if (sys.driving_region().active())
-    w.terms.push_back({"driving force f_b", [&sys] {
-                         sys.particles.zero_forces();
-                         mdpd::add_region_body_force(sys.particles, sys.driving_region(), sys.box());
-                       }});
-  if (split.active())
-    w.terms.push_back({"split Poiseuille force", [&sys, split] {
-                         sys.particles.zero_forces();
-                         mdpd::add_split_body_force(sys.particles, split, sys.box());
-                       }});
+  w.terms = sys.terms().watchdog_terms();
   const auto tag = sys.tag;
   const auto type = p.type, body = p.body;
   w.particle = [tag, type, body](long long i) {

@@ -54,7 +54,7 @@ TEST(PillarsWatchdog, ARestoreRetracesTheRunBitForBitAcrossMemorySorts) {
   PillarBox box(0.01, 2);
   auto& sys = *box.sys;
   for (int s = 0; s < 30; ++s) sys.step();
-  auto w = watched(sys, seed);
+  auto w = watched(sys);
   const int sorts = sys.num_sorts();
   EXPECT_EQ(testing::replay_mismatches(w, 120, sys.particles.x, sys.particles.v), 0);
   EXPECT_GT(sys.num_sorts(), sorts + 2) << "the replay should cross memory sorts";
@@ -71,7 +71,7 @@ TEST(PillarsWatchdog, TheTermsAloneSumToTheSystemsForces) {
   PillarBox box(0.01, 20);
   auto& sys = *box.sys;
   for (int s = 0; s < 20; ++s) sys.step();
-  auto w = watched(sys, seed);
+  auto w = watched(sys);
   // The forces of the last step were evaluated at the half-step velocities: re-evaluate at v.
   sys.compute_forces(false, sys.particles.v);
   const auto full = testing::host_values(sys.particles.f);
@@ -94,14 +94,14 @@ TEST(PillarsWatchdog, StopsASystemForcedAboveItsStabilityLimitAtTheStepAPlainRun
   const double dt = 0.017;
   PillarBox plain_box(dt, 2, 40);
   auto& plain = *plain_box.sys;
-  auto plain_view = watched(plain, seed);
+  auto plain_view = watched(plain);
   const long long expected = testing::first_non_finite_step(
       [&] { plain.step(); }, [&] { return (long long)plain.current_step(); }, plain_view.state, 20000);
   ASSERT_GT(expected, 0);
 
   PillarBox box(dt, 2, 40);
   auto& sys = *box.sys;
-  watchdog::NanWatchdog dog(watched(sys, seed), 5);
+  watchdog::NanWatchdog dog(watched(sys), 5);
   try {
     for (int s = 0; s < 20000; ++s) {
       sys.step();
