@@ -117,8 +117,12 @@ struct MdpdLiquid {
     drag = typename Particles<D, Real, Exec>::vector_view("bench::drag", n);
     mdpd::pack_vectors<D, Real, Exec>(sys.particles.x, xr);
     mdpd::pack_vectors<D, Real, Exec>(sys.particles.v, vr);
-    const auto density = sys.rho;
-    const auto x = xr;
+    pack_density(sys.rho, xr, n);
+  }
+
+  // Outside the constructor: CUDA needs an enclosing function whose address can be taken.
+  template <class Density>
+  static void pack_density(const Density& density, const rows_view& x, int n) {
     Kokkos::parallel_for(
         "bench::pack_rho", Kokkos::RangePolicy<Exec>(0, n), KOKKOS_LAMBDA(int i) { x(i, mdpd::rho_column) = density(i); });
     Kokkos::fence();
