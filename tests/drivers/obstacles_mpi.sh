@@ -4,8 +4,8 @@
 # recomputing a finished replica:
 #   1. one process (no mpirun) and `mpirun -np 3`: HDF5 /results and the CSV table bitwise equal,
 #      3 ranks in the JSON, no rank checkpoint left behind;
-#   2. `mpirun -np 3` killed (SIGTERM, as a batch scheduler does at the time limit) once a rank has
-#      checkpointed a finished replica, then `mpirun -np 2 ... --restart`: it resumes exactly the
+#   2. `mpirun -np 3` stopped once rank 0 has checkpointed two finished replicas (a deterministic
+#      stop, see below), then `mpirun -np 2 ... --restart`: it resumes exactly the
 #      replicas the rank checkpoints held, computes the rest, and matches the one-process sweep.
 #   obstacles_mpi.sh <mpiexec> <obstacles executable> <work dir> [driver arguments...]
 set -euo pipefail
@@ -37,17 +37,21 @@ finished() {  # finished replicas in the rank checkpoints
   done
   echo "$n"
 }
-"$mpiexec" -np 3 "$exe" "${args[@]}" --output "$dir/killed/run.h5" &
-pid=$!
-for _ in $(seq 1 3000); do
-  [ "$(finished)" -ge 1 ] && break
-  sleep 0.01
-done
-kill -TERM "$pid" 2>/dev/null || true
-wait "$pid" 2>/dev/null || true
-[ -f "$dir/killed/run.json" ] && { echo "FAIL: the sweep finished before it could be killed; give it more work" >&2; exit 1; }
+# The stop is deterministic (no timed kill): rank 0 alone gets MESOFLOW_STOP_AFTER_CHECKPOINT=3
+# (io/checkpoint_stop.hpp) and ends with exit status 75 when its third replica has finished and
+# its third rank checkpoint is about to be written (it keeps two, as SIGKILL would leave them);
+# mpirun then ends the other ranks, whose checkpoints hold whatever they had finished.
+code=0
+"$mpiexec" -np 3 bash -c 'if [ "${OMPI_COMM_WORLD_RANK:-${PMI_RANK:-0}}" = 0 ]; then export MESOFLOW_STOP_AFTER_CHECKPOINT=3; fi; exec "$@"' \
+  rank0-stops "$exe" "${args[@]}" --output "$dir/killed/run.h5" >"$dir/killed/mpirun.log" 2>&1 || code=$?
+[ $code -ne 0 ] || { echo "FAIL: the 3-rank sweep should end with rank 0's stop, it exited 0" >&2; exit 1; }
+grep -q "stopped after checkpoint 3" "$dir/killed/mpirun.log" ||
+  { cat "$dir/killed/mpirun.log" >&2; echo "FAIL: rank 0 did not stop after its third checkpoint" >&2; exit 1; }
+[ -f "$dir/killed/run.json" ] && { echo "FAIL: the stopped sweep wrote its summary" >&2; exit 1; }
+rank0=$(h5dump -d /finished "$dir/killed/run.rank0.ckpt.h5" 2>/dev/null | sed -n 's/.*(0): \([0-9]*\).*/\1/p')
+[ "${rank0:-0}" = 2 ] || { echo "FAIL: rank 0's checkpoint should hold 2 finished replicas, holds ${rank0:-none}" >&2; exit 1; }
 before=$(finished)
-echo "killed with $before of $total replicas finished in $(ls "$dir"/killed/run.rank*.ckpt.h5 | wc -l) rank checkpoints"
+echo "stopped with $before of $total replicas finished in $(ls "$dir"/killed/run.rank*.ckpt.h5 | wc -l) rank checkpoints"
 [ "$before" -ge 1 ] && [ "$before" -lt "$total" ] || { echo "FAIL: expected a partial checkpoint" >&2; exit 1; }
 
 "$mpiexec" -np 2 "$exe" "${args[@]}" --output "$dir/killed/run.h5" --restart
