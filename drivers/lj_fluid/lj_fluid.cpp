@@ -89,7 +89,7 @@ void run(const Parameters& par, const cli::DriverApp& app) {
   double time = 0, potential = 0;
   std::optional<io::H5mdWriter> h5;
   if (par.restart) {
-    const auto at = driver::read_checkpoint(out.checkpoint, p, list, box);
+    const auto at = lj_fluid::read_checkpoint(out.checkpoint, p, list, box);
     step = at.step;
     time = at.time;
     h5.emplace(io::H5mdWriter::resume(out.trajectory, step));
@@ -178,7 +178,7 @@ void run(const Parameters& par, const cli::DriverApp& app) {
     if (checkpoint) {
       cli::ScopedTimer t(timers, "checkpoint");
       h5->flush();
-      driver::write_checkpoint(out.checkpoint, step, time, p, list, box);
+      lj_fluid::write_checkpoint(out.checkpoint, step, time, p, list, box);
     }
     progress.update(step - first);
   }
