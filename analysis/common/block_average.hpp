@@ -1,6 +1,7 @@
 // block_average.hpp — the block-averaging error of the mean of a correlated series, host-only (no
-// Kokkos): the flow rate of the hoppers (scenes/hopper/flow_measurement.hpp, hopper-flows §4) from
-// its window rates, and any time series whose neighbouring samples are correlated.
+// Kokkos): the flow rate of the hoppers from its window rates (hopper-flows §4; the drivers and tests
+// pass it to scenes/hopper/flow_measurement.hpp), and any time series whose neighbouring samples are
+// correlated.
 #pragma once
 
 #include <algorithm>

@@ -1,6 +1,6 @@
 // nelder_mead.hpp — Nelder–Mead simplex minimisation over a box, host-only (no Kokkos): the
-// calibration of the DP droplet (scenes/droplets/calibrate.hpp, capillary-droplets §4.1) and any
-// fit without derivatives.
+// calibration of the DP droplet (analysis/droplets/profile_calibration.hpp, capillary-droplets §4.1)
+// and any fit without derivatives.
 #pragma once
 
 #include <algorithm>

@@ -8,7 +8,8 @@
 // time t0 = √(σ/g). The measured CSV gives h/σ (distance of the centre of mass past the orifice,
 // negative before it) and v_g/v_t in columns `h` and `vg_over_vt` (an `orifice` profile CSV works).
 //
-// Method (scenes/droplets/calibrate.hpp): a grid of --grid-points per fitted parameter over
+// Method (analysis/droplets/profile_calibration.hpp, over passages of scenes/droplets/orifice_run.hpp
+// with the trial Γ, b0/b∞ and K_l/Γ held): a grid of --grid-points per fitted parameter over
 // [--gamma-min, --gamma-max] × [--drag-min, --drag-max] (log-spaced), then Nelder–Mead in
 // (ln Γ, ln b0/b∞) to --tolerance; --max-evaluations orifice passages at most.
 //
@@ -19,12 +20,14 @@
 #include "drivers/common/cli.hpp"
 #include "drivers/common/json_summary.hpp"
 #include "drivers/common/output_paths.hpp"
-#include "scenes/droplets/calibrate.hpp"
+#include "analysis/droplets/profile_calibration.hpp"
+#include "scenes/droplets/orifice_run.hpp"
 
 #include <chrono>
 #include <fstream>
 #include <iomanip>
 #include <iostream>
+#include <optional>
 
 namespace mesoflow {
 namespace {
@@ -68,8 +71,13 @@ void run(Parameters par, const cli::DriverApp& app) {
   history << std::setprecision(10) << "evaluation,line_tension,near_wall_drag,speed_deviation,outcome,seconds\n";
   int count = 0;
   const auto start = std::chrono::steady_clock::now();
-  const auto result = droplets::calibrate(measured, par.scene, fit, par.bounds, par.simplex, par.grid_points,
-                                          [&](const droplets::CalibrationEvaluation& e) {
+  // One orifice passage per trial Γ and/or b0/b∞ (the other at its --gamma / --near-wall-drag).
+  const auto passage = [&](std::optional<double> line_tension, std::optional<double> near_wall_drag) {
+    return droplets::run_orifice(droplets::calibration_scene(par.scene, line_tension, near_wall_drag));
+  };
+  const auto result = droplets::calibrate(measured, passage, {d.line_tension, d.near_wall_drag}, d.terminal_speed,
+                                          fit, par.bounds, par.simplex, par.grid_points,
+                                          [&](const auto& e) {
                                             history << ++count << ',' << e.line_tension << ',' << e.near_wall_drag
                                                     << ',' << e.speed_deviation << ',' << to_string(e.outcome) << ','
                                                     << e.seconds << '\n'

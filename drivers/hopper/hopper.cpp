@@ -34,6 +34,7 @@
 #include "drivers/common/ensemble_mpi.hpp"
 #include "drivers/common/json_summary.hpp"
 #include "drivers/common/output_paths.hpp"
+#include "analysis/common/block_average.hpp"
 #include "analysis/hopper/flow_rate_fits.hpp"
 #include "scenes/hopper/hopper_sweep.hpp"
 
@@ -157,8 +158,8 @@ std::vector<std::optional<hopper::BeverlooFit>> run(const std::vector<SweepSpec<
   for (const std::size_t item : ensemble::shard(sweeps.size() * n_widths, ranks.rank(), ranks.size())) {
     const SweepSpec<SceneParameters>& sweep = sweeps[item / n_widths];
     const double w = widths[item / n_widths][item % n_widths];
-    const WidthRun run = hopper::run_width<Scene>(sweep.base, w, item % n_widths, par.flow, [&](const Scene& scene,
-                                                                                             const hopper::FlowResult& r) {
+    const WidthRun run = hopper::run_width<Scene>(sweep.base, w, item % n_widths, par.flow, analysis::block_average,
+                                                  [&](const Scene& scene, const hopper::FlowResult& r) {
       if (!app.quiet())
         std::cout << "hopper: " << (sweep.label.empty() ? "" : sweep.label + ", ") << "w = " << w << ": "
                   << (r.clogged ? std::string("clogged at t = ") + std::to_string(r.end_time)

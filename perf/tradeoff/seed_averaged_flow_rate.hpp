@@ -3,6 +3,7 @@
 // programs (tradeoff_hopper.cpp, tradeoff_dp_hopper.cpp) share.
 #pragma once
 
+#include "analysis/common/block_average.hpp"
 #include "scenes/hopper/flow_measurement.hpp"
 #include "perf/tradeoff/cost_clock.hpp"
 
@@ -21,8 +22,9 @@ struct FlowRateRuns {
 };
 
 // For each seed first_seed … first_seed + seeds − 1: make_scene(seed) builds the scene, relax()
-// places it, measure_flow_rate runs the flow. Unless quiet, one line per seed on standard error,
-// starting with `label`.
+// places it, measure_flow_rate runs the flow (Q and its error of one seed: the block average of
+// analysis/common/block_average.hpp, as the hopper driver measures them). Unless quiet, one line
+// per seed on standard error, starting with `label`.
 template <class MakeScene>
 FlowRateRuns seed_averaged_flow_rate(int seeds, std::uint64_t first_seed, const hopper::FlowSettings& flow,
                                      MakeScene&& make_scene, const std::string& label, bool quiet) {
@@ -34,7 +36,7 @@ FlowRateRuns seed_averaged_flow_rate(int seeds, std::uint64_t first_seed, const 
     scene.relax();
     const double t0 = scene.time();
     const CostClock clock;
-    const auto r = hopper::measure_flow_rate(scene, flow);
+    const auto r = hopper::measure_flow_rate(scene, flow, analysis::block_average);
     const auto cost = clock.elapsed();
     c.cost.wall += cost.wall;
     c.cost.cpu += cost.cpu;

@@ -8,9 +8,9 @@
 // Error: Δ_v of eq. 14 (App. B uses it to choose N_v and K_l), √(Σ_i ((v_ref,i − v_i)/v_i)²/N_f),
 // with the converged reference's samples in −1.2σ ≤ h ≤ 0.9σ as the "measured" frames (a run stops
 // at h = 1σ, so frames past 0.9σ would meet no sample of a run that stopped a sample earlier), the run's
-// v_g interpolated between its samples at each h_i (scenes/droplets/calibrate.hpp). References,
-// both in double: the finest N_v at its automatic Δt for the N_v sweep; the smallest Δt at
-// --dt-vertices for the Δt sweep. "delta_v_vs_double" is the error float adds: Δ_v of the float run
+// v_g interpolated between its samples at each h_i (analysis/droplets/profile_calibration.hpp).
+// References, both in double: the finest N_v at its automatic Δt for the N_v sweep; the smallest Δt
+// at --dt-vertices for the Δt sweep. "delta_v_vs_double" is the error float adds: Δ_v of the float run
 // against the double run of the same N_v and Δt.
 //
 // Cost: wall and process CPU seconds of the whole passage (FIRE relaxation included, a few ms) per
@@ -21,7 +21,8 @@
 // the float speed-up. perf/tradeoff/run_droplet runs this and perf/tradeoff/plot_tradeoff_panels.py.
 #include "drivers/common/cli.hpp"
 #include "drivers/common/output_paths.hpp"
-#include "scenes/droplets/calibrate.hpp"
+#include "analysis/droplets/profile_calibration.hpp"
+#include "scenes/droplets/orifice_run.hpp"
 #include "perf/tradeoff/cost_clock.hpp"
 
 #include <algorithm>

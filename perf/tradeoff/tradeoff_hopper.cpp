@@ -13,8 +13,9 @@
 //   - Δt ∈ {0.9 × limit, 10⁻³ (the paper's), ½, ¼ of 10⁻³} at E_sp = 10² (--dt-pair-energy).
 //     Reference: the smallest.
 // Error: |Q − Q_ref|/Q_ref, with its statistical error √(σ_Q² + σ_ref²)/Q_ref beside it (σ: the
-// block-averaging error of flow_measurement.hpp, combined over --seeds independent runs). Q of one
-// configuration is the mean over --seeds runs (seeds 1…n: random placement, FIRE, then flow).
+// block-averaging error of analysis/common/block_average.hpp, combined over --seeds independent
+// runs). Q of one configuration is the mean over --seeds runs (seeds 1…n: random placement, FIRE,
+// then flow).
 // "error_vs_double" is the error float adds: |Q_float − Q_double|/Q_double at the same E_sp and Δt.
 // Cost: wall and process CPU seconds of the flow (FIRE excluded) per t0, one host thread.
 //

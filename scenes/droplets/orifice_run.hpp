@@ -3,7 +3,8 @@
 // overlaps without gravity (§2.4), then it falls under gravity with drag (eqs. 5–7) until it has
 // passed (centre of mass end_h below the orifice), clogged (E_k/E_t below the threshold of
 // Appendix C) or the time limit ends the run. Shared by the `orifice` and `calibrate` drivers and
-// the tests.
+// the tests; calibration_scene gives the `calibrate` driver's passages (the fit itself is host
+// analysis, analysis/droplets/profile_calibration.hpp).
 //
 // Units as in droplet_scene.hpp: σ, g, ρ; t0 = √(σ/g); speeds in σ/t0, so v_t = V_t.
 // Frame: gravity along −y, the orifice at y = 0, x = 0; h = −y_com is the distance of the centre
@@ -16,6 +17,7 @@
 #include "kernels/common/reductions.hpp"
 
 #include <cmath>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -147,6 +149,21 @@ OrificeProfile run_orifice(const OrificeScene& setup, OnSample&& on_sample) {
 
 inline OrificeProfile run_orifice(const OrificeScene& setup) {
   return run_orifice(setup, [](const auto&, const auto&) {});
+}
+
+// One passage of the calibration (capillary-droplets §4.1): `scene` with the line tension Γ and/or
+// the near-wall drag b0/b∞ replaced (std::nullopt: the scene's own), the perimeter elasticity K_l
+// following Γ so that K_l/Γ stays the scene's (App. B).
+inline OrificeScene calibration_scene(const OrificeScene& scene, std::optional<double> line_tension,
+                                      std::optional<double> near_wall_drag) {
+  OrificeScene s = scene;
+  if (line_tension) {
+    const double perimeter_ratio = scene.droplet.perimeter_stiffness / scene.droplet.line_tension;
+    s.droplet.line_tension = *line_tension;
+    s.droplet.perimeter_stiffness = perimeter_ratio * s.droplet.line_tension;  // K_l/Γ held
+  }
+  if (near_wall_drag) s.droplet.near_wall_drag = *near_wall_drag;
+  return s;
 }
 
 }  // namespace mesoflow::droplets

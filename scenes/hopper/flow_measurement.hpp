@@ -5,13 +5,13 @@
 // Steady state: the first window n ≥ 2M (M = steady_windows) where the means of the last M rates and
 // of the M before them differ by at most twice the standard error of that difference (the running Q
 // has stopped drifting beyond its noise) and the last mean is > 0. Q is then the mean of the next
-// `measure_windows` rates; its error is the block-averaging estimate (analysis/common/block_average.hpp).
+// `measure_windows` rates and its error the caller's estimate (`mean_and_error`: the driver, tests
+// and perf/ pass the block-averaging one of analysis/common/block_average.hpp, a floor above this).
 // Clogging: no particle has crossed for `clog_time` t0 (checked at each window's end) → Q = 0,
 // clogged. Neither by `max_time` → steady = false, Q and its error from the windows of the run's
 // second half.
 #pragma once
 
-#include "analysis/common/block_average.hpp"
 #include "scenes/common/nan_watchdog.hpp"
 
 #include <cmath>
@@ -57,14 +57,13 @@ struct FlowResult {
   std::vector<double> window_rates;
 };
 
-// The block-averaged error of Q: analysis/common/block_average.hpp.
-using analysis::block_average;
-
 // Steps `scene` until steady and measured, clogged, or max_time; after each window calls
 // on_window(scene, rate, measuring), measuring true for the windows that make Q (those after the
-// steady state was detected; without a steady state, none).
-template <class Scene>
-FlowResult measure_flow_rate(Scene& scene, const FlowSettings& s,
+// steady state was detected; without a steady state, none). Q and Q_error come from
+// mean_and_error(rates, Q, Q_error), rates a const std::vector<double>& of the windows that make Q
+// (e.g. analysis::block_average).
+template <class Scene, class MeanAndError>
+FlowResult measure_flow_rate(Scene& scene, const FlowSettings& s, MeanAndError&& mean_and_error,
                              const std::function<void(const Scene&, double, bool)>& on_window = {}) {
   s.validate();
   const long long steps_per_window = std::max(1LL, std::llround(s.window / scene.dt()));
@@ -107,13 +106,13 @@ FlowResult measure_flow_rate(Scene& scene, const FlowSettings& s,
       }
     }
     if (measure_from >= 0 && n - measure_from >= s.measure_windows) {
-      block_average(std::vector<double>(r.window_rates.begin() + measure_from, r.window_rates.end()), r.Q, r.Q_error);
+      mean_and_error(std::vector<double>(r.window_rates.begin() + measure_from, r.window_rates.end()), r.Q, r.Q_error);
       r.end_time = scene.time();
       return r;
     }
   }
   const std::size_t half = r.window_rates.size() / 2;
-  block_average(std::vector<double>(r.window_rates.begin() + long(half), r.window_rates.end()), r.Q, r.Q_error);
+  mean_and_error(std::vector<double>(r.window_rates.begin() + long(half), r.window_rates.end()), r.Q, r.Q_error);
   r.end_time = scene.time();
   return r;
 }

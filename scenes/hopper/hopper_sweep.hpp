@@ -161,18 +161,19 @@ inline HopperParameters particle_parameters(HopperParameters sp, double dt, int 
   return sp;
 }
 
-// Runs width index k of a sweep with scene parameters `base` (see the file comment).
+// Runs width index k of a sweep with scene parameters `base` (see the file comment); Q and its
+// error from mean_and_error (measure_flow_rate; the driver passes analysis::block_average).
 // on_result(scene, result) is called once the flow is measured (the driver reports it).
-template <class Scene, class SceneParameters, class OnResult>
+template <class Scene, class SceneParameters, class MeanAndError, class OnResult>
 WidthRun run_width(const SceneParameters& base, double w, std::size_t k, const FlowSettings& flow,
-                   OnResult&& on_result) {
+                   MeanAndError&& mean_and_error, OnResult&& on_result) {
   constexpr bool soft_particles = std::is_same_v<SceneParameters, HopperParameters>;
   const auto width_start = std::chrono::steady_clock::now();
   Scene scene(at_width(base, w, k));
   scene.relax();
   WidthRun run;
   WidthMeasurement& m = run.measured;
-  const auto r = measure_flow_rate<Scene>(scene, flow, [&](const Scene& s, double q, bool measuring) {
+  const auto r = measure_flow_rate<Scene>(scene, flow, mean_and_error, [&](const Scene& s, double q, bool measuring) {
     run.windows.push_back({std::int64_t(s.steps()), s.time(), q});
     if (!measuring) return;
     const auto prof = gaussian_axis_profile<profile_points>(s.particles(), 0.0, profile_dh, 1.0);

@@ -1,11 +1,14 @@
-// Synthetic measured profiles for the calibration tests (test_calibrate, test_calibrate_long).
+// Synthetic measured profiles for the calibration tests (test_calibrate, test_calibrate_long), and
+// the calibration over orifice passages as the `calibrate` driver composes it.
 #pragma once
 
-#include "scenes/droplets/calibrate.hpp"
+#include "analysis/droplets/profile_calibration.hpp"
+#include "scenes/droplets/orifice_run.hpp"
 
 #include <gtest/gtest.h>
 
 #include <iostream>
+#include <optional>
 
 namespace mesoflow::droplets {
 
@@ -36,7 +39,20 @@ inline OrificeScene fig3d_scene(int vertices, double terminal_speed) {
   return s;
 }
 
-inline void report(const char* what, const CalibrationResult& r, double seconds) {
+// The fit of analysis/droplets/profile_calibration.hpp over orifice passages of `scene` with the
+// trial Γ (K_l/Γ held) and b0/b∞ (calibration_scene), first guesses and v_t from the scene: as in
+// drivers/droplets/calibrate.cpp.
+inline CalibrationResult<OrificeProfile> calibrate_orifice(const MeasuredProfile& measured, const OrificeScene& scene,
+                                                           FitParameters fit, const CalibrationBounds& bounds,
+                                                           const SimplexSettings& settings, int grid_points) {
+  const auto passage = [&](std::optional<double> line_tension, std::optional<double> near_wall_drag) {
+    return run_orifice(calibration_scene(scene, line_tension, near_wall_drag));
+  };
+  return calibrate(measured, passage, {scene.droplet.line_tension, scene.droplet.near_wall_drag},
+                   scene.droplet.terminal_speed, fit, bounds, settings, grid_points);
+}
+
+inline void report(const char* what, const CalibrationResult<OrificeProfile>& r, double seconds) {
   std::cout << "[ measured ] " << what << ": Γ = " << r.line_tension << ", b0/b∞ = " << r.near_wall_drag
             << ", Δ_v = " << r.speed_deviation << " after " << r.history.size() << " orifice runs, " << seconds
             << " s\n";

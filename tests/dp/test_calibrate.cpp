@@ -1,8 +1,9 @@
 // Calibration of the DP model against a measured speed profile (capillary-droplets §4.1,
-// scenes/droplets/calibrate.hpp): Δ_v of eq. 14 with interpolation between simulated frames, the
-// Nelder–Mead minimiser, the CSV reader, and recovery of known (Γ, b0/b∞) from synthetic data made
-// by the orifice simulation itself.
-#include "scenes/droplets/calibrate.hpp"
+// analysis/droplets/profile_calibration.hpp): Δ_v of eq. 14 with interpolation between simulated
+// frames, the Nelder–Mead minimiser, the CSV reader, the fit over a stand-in simulation (host only),
+// the trial scene that holds K_l/Γ (scenes/droplets/orifice_run.hpp), and recovery of known
+// (Γ, b0/b∞) from synthetic data made by the orifice simulation itself.
+#include "analysis/droplets/profile_calibration.hpp"
 #include "dp/synthetic_profile.hpp"
 
 #include <gtest/gtest.h>
@@ -11,6 +12,7 @@
 #include <cstdio>
 #include <fstream>
 #include <iostream>
+#include <optional>
 
 namespace mesoflow::droplets {
 namespace {
@@ -87,6 +89,85 @@ TEST(Calibrate, MeasuredProfileReaderNamesWhatIsWrong) {
   EXPECT_NE(reader_error("/nonexistent/measured.csv").find("cannot read"), std::string::npos);
 }
 
+// The fit needs only simulate(Γ, b0/b∞): a stand-in whose v_g/v_t = 0.5 + 0.1 Γ (h + 1) − b0/b∞ h² is
+// fitted back to Γ = 1.5, b0/b∞ = 0.2 without a scene; a parameter that is not fitted reaches the
+// simulation as std::nullopt and is reported at its guess.
+struct StandInProfile {
+  std::vector<double> h, vg;
+  int outcome = 0;
+};
+
+TEST(Calibrate, FitsAnySimulationAndPassesOnlyTheFittedParameters) {
+  const double vt = 0.05;
+  auto speed = [](double gamma, double drag, double h) { return 0.5 + 0.1 * gamma * (h + 1) - drag * h * h; };
+  MeasuredProfile measured;
+  for (double h = -0.95; h < 1; h += 0.1) {
+    measured.h.push_back(h);
+    measured.vg_over_vt.push_back(speed(1.5, 0.2, h));
+  }
+  int runs = 0;
+  std::optional<double> last_gamma, last_drag;
+  auto simulate = [&](std::optional<double> gamma, std::optional<double> drag) {
+    ++runs;
+    last_gamma = gamma;
+    last_drag = drag;
+    StandInProfile p;
+    for (int i = 0; i <= 40; ++i) {
+      p.h.push_back(-1 + 0.05 * i);
+      p.vg.push_back(vt * speed(gamma.value_or(0.7), drag.value_or(0.2), p.h.back()));
+    }
+    return p;
+  };
+  SimplexSettings s;
+  s.max_evaluations = 80;
+  s.x_tolerance = 1e-5;
+  CalibrationBounds bounds;
+  const auto gamma_only = calibrate(measured, simulate, {0.7, 0.2}, vt, FitParameters::line_tension, bounds, s, 5);
+  EXPECT_TRUE(gamma_only.converged);
+  EXPECT_NEAR(gamma_only.line_tension, 1.5, 1e-3);
+  EXPECT_EQ(gamma_only.near_wall_drag, 0.2);
+  EXPECT_LT(gamma_only.speed_deviation, 1e-3);
+  EXPECT_TRUE(last_gamma.has_value());
+  EXPECT_FALSE(last_drag.has_value());
+  EXPECT_EQ(int(gamma_only.history.size()), runs);  // every point once, the grid's 5 included
+  EXPECT_GE(runs, 5);
+  for (const auto& e : gamma_only.history) EXPECT_EQ(e.near_wall_drag, 0.2);
+  EXPECT_EQ(gamma_only.best_profile.h.size(), 41u);
+
+  runs = 0;
+  int seen = 0;
+  const auto both = calibrate(measured, simulate, {0.7, 0.1}, vt, FitParameters::both, bounds, s, 1,
+                              [&](const CalibrationEvaluation<int>& e) { seen += e.outcome == 0; });
+  EXPECT_NEAR(both.line_tension, 1.5, 1e-2);
+  EXPECT_NEAR(both.near_wall_drag, 0.2, 1e-2);
+  EXPECT_TRUE(last_gamma.has_value() && last_drag.has_value());
+  EXPECT_EQ(seen, runs);
+  EXPECT_EQ(both.history.front().line_tension, std::exp(std::log(0.7)));  // no grid: the guess first
+}
+
+// The trial scene of a calibration: Γ replaced with K_l/Γ held, b0/b∞ replaced, the rest the scene's;
+// a parameter not given keeps the scene's value bit for bit.
+TEST(Calibrate, CalibrationSceneHoldsThePerimeterRatio) {
+  OrificeScene scene;
+  scene.droplet.line_tension = 1.2;
+  scene.droplet.perimeter_stiffness = 3e-3;
+  scene.droplet.near_wall_drag = 0.05;
+  const OrificeScene same = calibration_scene(scene, std::nullopt, std::nullopt);
+  EXPECT_EQ(same.droplet.line_tension, 1.2);
+  EXPECT_EQ(same.droplet.perimeter_stiffness, 3e-3);
+  EXPECT_EQ(same.droplet.near_wall_drag, 0.05);
+  const OrificeScene gamma = calibration_scene(scene, 2.4, std::nullopt);
+  EXPECT_EQ(gamma.droplet.line_tension, 2.4);
+  EXPECT_EQ(gamma.droplet.perimeter_stiffness, (3e-3 / 1.2) * 2.4);
+  EXPECT_EQ(gamma.droplet.near_wall_drag, 0.05);
+  const OrificeScene drag = calibration_scene(scene, std::nullopt, 0.3);
+  EXPECT_EQ(drag.droplet.line_tension, 1.2);
+  EXPECT_EQ(drag.droplet.perimeter_stiffness, 3e-3);
+  EXPECT_EQ(drag.droplet.near_wall_drag, 0.3);
+  EXPECT_EQ(drag.width, scene.width);
+  EXPECT_EQ(drag.start_h, scene.start_h);
+}
+
 // CI variant: N_v = 32, V_t = 0.08, Γ alone in [0.6, 2] (b0/b∞ held at 0.07): a 5-point grid, then
 // Nelder–Mead; at most 14 orifice passages. Δ_v is sharp near the optimum (0.17 at 1.4% off in Γ:
 // the stall before the orifice moves), so the fit is judged by Γ, and Δ_v only loosely.
@@ -103,7 +184,7 @@ TEST(Calibrate, RecoversLineTensionFromSyntheticProfile) {
   CalibrationBounds bounds;
   bounds.gamma_min = 0.6;
   bounds.gamma_max = 2.0;
-  const auto r = calibrate(measured, guess, FitParameters::line_tension, bounds, s, 5);
+  const auto r = calibrate_orifice(measured, guess, FitParameters::line_tension, bounds, s, 5);
   report("Γ alone, N_v = 32, V_t = 0.08", r, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
   EXPECT_NEAR(r.line_tension / 1.08, 1.0, 0.05);
   EXPECT_EQ(r.near_wall_drag, 0.07);

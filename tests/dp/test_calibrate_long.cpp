@@ -1,6 +1,6 @@
 // Acceptance test of the calibration (capillary-droplets §4.1, Fig. 3d; label long, ~1 min):
 // Γ and b0/b∞ recovered together from a synthetic profile made by the orifice simulation.
-#include "scenes/droplets/calibrate.hpp"
+#include "analysis/droplets/profile_calibration.hpp"
 #include "dp/synthetic_profile.hpp"
 
 #include <gtest/gtest.h>
@@ -28,7 +28,7 @@ TEST(CalibrateLong, RecoversFig3dParametersFromSyntheticProfile) {
   bounds.gamma_max = 2.0;
   bounds.drag_min = 0.03;
   bounds.drag_max = 0.2;
-  const auto r = calibrate(measured, guess, FitParameters::both, bounds, s, 5);
+  const auto r = calibrate_orifice(measured, guess, FitParameters::both, bounds, s, 5);
   report("Fig. 3(d), N_v = 32, both", r, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
   EXPECT_NEAR(r.line_tension / 1.08, 1.0, 0.05);
   EXPECT_NEAR(r.near_wall_drag / 0.07, 1.0, 0.05);

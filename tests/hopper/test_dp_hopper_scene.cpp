@@ -4,6 +4,7 @@
 // hopper of rough 16-gons with kinetic friction only (μ = 10√10, the paper's λ → 0 limit) flows
 // steadily at a wide orifice, conserving the polygon count and their areas; every re-inserted polygon
 // touches nothing, checked by brute force after each recycling; bad parameters are refused by name.
+#include "analysis/common/block_average.hpp"
 #include "scenes/hopper/dp_hopper_scene.hpp"
 #include "scenes/hopper/flow_measurement.hpp"
 
@@ -163,7 +164,7 @@ TEST(DpHopperScene, FrictionOnlyFlowsSteadilyAndConservesPolygons) {
   // pressure p ≈ ρ g h ≈ 8 at the bottom squeezes a small polygon by p/(k_a a0) ≈ 1.5·10⁻³).
   std::array<double, 3> errors{0, 0, 0};
   int sampled = 0;
-  const auto r = measure_flow_rate<Scene>(scene, fs, [&](const Scene&, double, bool measuring) {
+  const auto r = measure_flow_rate<Scene>(scene, fs, analysis::block_average, [&](const Scene&, double, bool measuring) {
     if (!measuring) return;
     const auto e = area_errors(scene);  // the scene itself: update_body_state() leaves the dynamics alone
     for (int k = 0; k < 2; ++k) errors[k] += e[k];

@@ -5,6 +5,7 @@
 // the contact tolerance, checked by brute force after each recycling. 3D (cylinder, flat base,
 // circular orifice): steady nonzero flow, recycling checked the same way. Sorting the particles in
 // memory (every 20 neighbor-list rebuilds) keeps the ids a permutation and the count conserved.
+#include "analysis/common/block_average.hpp"
 #include "scenes/hopper/flow_measurement.hpp"
 #include "scenes/hopper/hopper_scene.hpp"
 
@@ -120,7 +121,7 @@ TEST(HopperScene, SteadyNonzeroFlowAtSixDiameters) {
   fs.measure_windows = 16;
   fs.clog_time = 10;
   fs.max_time = 120;
-  const auto r = measure_flow_rate<Scene2>(scene, fs);
+  const auto r = measure_flow_rate<Scene2>(scene, fs, analysis::block_average);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::cout << "w = 6: Q = " << r.Q << " ± " << r.Q_error << " (steady at t = " << r.steady_time << ", end "
             << r.end_time << "), " << scene.crossings() << " crossings, " << scene.insertions()
@@ -135,8 +136,8 @@ TEST(HopperScene, SteadyNonzeroFlowAtSixDiameters) {
   // Steady: the two halves of the measured windows agree within 3 combined standard errors.
   const std::vector<double> measured(r.window_rates.end() - fs.measure_windows, r.window_rates.end());
   double m1, e1, m2, e2;
-  block_average(std::vector<double>(measured.begin(), measured.begin() + 8), m1, e1);
-  block_average(std::vector<double>(measured.begin() + 8, measured.end()), m2, e2);
+  analysis::block_average(std::vector<double>(measured.begin(), measured.begin() + 8), m1, e1);
+  analysis::block_average(std::vector<double>(measured.begin() + 8, measured.end()), m2, e2);
   std::cout << "halves: " << m1 << " ± " << e1 << ", " << m2 << " ± " << e2 << "\n";
   EXPECT_LT(std::abs(m1 - m2), 3 * std::hypot(e1, e2));
   EXPECT_GT(scene.insertions(), 50);
@@ -177,7 +178,7 @@ TEST(HopperScene, HardParticlesClogForGoodAtOnePointTwoDiameters) {
   fs.window = 2;
   fs.clog_time = 10;
   fs.max_time = 60;
-  const auto r = measure_flow_rate<Scene2>(scene, fs);
+  const auto r = measure_flow_rate<Scene2>(scene, fs, analysis::block_average);
   const long long crossings = scene.crossings();
   // Permanence: 10 t0 more without a single crossing.
   for (int k = 0; k < 10000; ++k) scene.step();
@@ -223,7 +224,7 @@ TEST(HopperScene3D, FlowsSteadilyThroughACircularOrificeAndRecyclesWithoutOverla
   fs.measure_windows = 12;
   fs.clog_time = 10;
   fs.max_time = 100;
-  const auto r = measure_flow_rate<Scene3>(scene, fs);
+  const auto r = measure_flow_rate<Scene3>(scene, fs, analysis::block_average);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::cout << "3D w = 6: Q = " << r.Q << " ± " << r.Q_error << " (steady at t = " << r.steady_time << "), "
             << scene.crossings() << " crossings, " << scene.insertions() << " insertions (" << inserted

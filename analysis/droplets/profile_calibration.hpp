@@ -1,14 +1,15 @@
-// calibrate.hpp — calibration of the DP model against a measured speed profile
-// (capillary-droplets §4.1): Γ and b0/b∞ that minimise the RMS relative speed deviation Δ_v of
-// eq. 14 between a measured v_g(h) and simulated orifice passages (orifice_run.hpp). b∞ is fixed
-// beforehand by the terminal speed V_t (eq. 15). Shared by the `calibrate` driver and its tests.
+// profile_calibration.hpp — calibration of the DP model against a measured speed profile
+// (capillary-droplets §4.1), host-only (no Kokkos): Γ and b0/b∞ that minimise the RMS relative
+// speed deviation Δ_v of eq. 14 between a measured v_g(h) and simulated orifice passages. b∞ is
+// fixed beforehand by the terminal speed V_t (eq. 15). The passages are the caller's: a callable
+// simulate(Γ, b0/b∞) returning a profile (.h, .vg, .outcome), which the `calibrate` driver and its
+// tests compose from scenes/droplets/orifice_run.hpp (calibration_scene, run_orifice).
 //
-// Units as in droplet_scene.hpp; speeds are compared as v_g/v_t, so the measured profile may come
-// from any experiment once h is in droplet diameters and v_g in terminal speeds.
+// Units as in scenes/droplets/droplet_scene.hpp; speeds are compared as v_g/v_t, so the measured
+// profile may come from any experiment once h is in droplet diameters and v_g in terminal speeds.
 #pragma once
 
 #include "analysis/common/nelder_mead.hpp"
-#include "scenes/droplets/orifice_run.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -16,9 +17,12 @@
 #include <fstream>
 #include <functional>
 #include <numeric>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 namespace mesoflow::droplets {
@@ -117,7 +121,7 @@ inline double speed_deviation(const MeasuredProfile& measured, const std::vector
   return std::sqrt(sum / double(measured.h.size()));
 }
 
-// Which parameters the calibration fits; the others stay at the scene's values.
+// Which parameters the calibration fits; the other stays at the simulation's own value.
 enum class FitParameters { both, line_tension, near_wall_drag };
 
 struct CalibrationBounds {
@@ -134,68 +138,79 @@ struct CalibrationBounds {
   }
 };
 
+// The first guesses of the fitted parameters (a parameter that is not fitted keeps the simulation's
+// own value, which the caller passes here too, so that every evaluation reports both).
+struct CalibrationGuess {
+  double line_tension, near_wall_drag;
+};
+
+// One orifice passage of the calibration; Outcome is the simulated profile's `.outcome` type.
+template <class Outcome>
 struct CalibrationEvaluation {
   double line_tension, near_wall_drag, speed_deviation;
-  OrificeOutcome outcome;
+  Outcome outcome;
   double seconds;
 };
 
+template <class Profile>
 struct CalibrationResult {
+  using Evaluation = CalibrationEvaluation<std::decay_t<decltype(std::declval<const Profile&>().outcome)>>;
   double line_tension = 0, near_wall_drag = 0, speed_deviation = HUGE_VAL;
   bool converged = false;
-  std::vector<CalibrationEvaluation> history;
-  OrificeProfile best_profile;
+  std::vector<Evaluation> history;
+  Profile best_profile;
 };
 
+// The profile that simulate(line_tension, near_wall_drag) returns, both arguments std::optional<double>.
+template <class Simulate>
+using SimulatedProfile =
+    std::decay_t<std::invoke_result_t<Simulate&, std::optional<double>, std::optional<double>>>;
+
 // Minimises Δ_v over Γ and/or b0/b∞ in logarithmic coordinates (both are positive scales) inside
-// `bounds`: a grid of grid_points per fitted parameter (none if < 2: the scene's values are the
-// first guess), then Nelder–Mead; settings.max_evaluations counts both
-// (a point visited again is not run again). `on_evaluation` sees each
-// orifice run as it completes.
-inline CalibrationResult calibrate(const MeasuredProfile& measured, const OrificeScene& scene, FitParameters fit,
-                                   const CalibrationBounds& bounds, const SimplexSettings& settings, int grid_points,
-                                   const std::function<void(const CalibrationEvaluation&)>& on_evaluation = {}) {
+// `bounds`: a grid of grid_points per fitted parameter (none if < 2: `guess` is the first point),
+// then Nelder–Mead; settings.max_evaluations counts both (a point visited again is not run again).
+// Each point is one call simulate(Γ, b0/b∞): the trial value of a fitted parameter, std::nullopt
+// for one that is not fitted (the simulation keeps its own, guess's); the profile's v_g is divided
+// by terminal_speed (v_t) before eq. 14. `on_evaluation` sees each passage as it completes.
+template <class Simulate>
+CalibrationResult<SimulatedProfile<Simulate>> calibrate(
+    const MeasuredProfile& measured, Simulate&& simulate, const CalibrationGuess& guess, double terminal_speed,
+    FitParameters fit, const CalibrationBounds& bounds, const SimplexSettings& settings, int grid_points,
+    const std::function<void(const typename CalibrationResult<SimulatedProfile<Simulate>>::Evaluation&)>&
+        on_evaluation = {}) {
+  using Result = CalibrationResult<SimulatedProfile<Simulate>>;
   bounds.validate();
-  scene.validate();
   const bool fit_gamma = fit != FitParameters::near_wall_drag, fit_drag = fit != FitParameters::line_tension;
-  if (fit_drag && !(scene.droplet.near_wall_drag > 0))
+  if (fit_drag && !(guess.near_wall_drag > 0))
     throw std::invalid_argument("--near-wall-drag: the first guess of b0/b∞ must be > 0 to fit it");
   std::vector<double> x0, lo, hi;
   if (fit_gamma) {
-    x0.push_back(std::log(scene.droplet.line_tension));
+    x0.push_back(std::log(guess.line_tension));
     lo.push_back(std::log(bounds.gamma_min));
     hi.push_back(std::log(bounds.gamma_max));
   }
   if (fit_drag) {
-    x0.push_back(std::log(scene.droplet.near_wall_drag));
+    x0.push_back(std::log(guess.near_wall_drag));
     lo.push_back(std::log(bounds.drag_min));
     hi.push_back(std::log(bounds.drag_max));
   }
-  const double perimeter_ratio = scene.droplet.perimeter_stiffness / scene.droplet.line_tension;
-  CalibrationResult result;
-  auto parameters_at = [&](const std::vector<double>& x) {
-    OrificeScene s = scene;
-    std::size_t k = 0;
-    if (fit_gamma) {
-      s.droplet.line_tension = std::exp(x[k++]);
-      s.droplet.perimeter_stiffness = perimeter_ratio * s.droplet.line_tension;  // K_l/Γ held
-    }
-    if (fit_drag) s.droplet.near_wall_drag = std::exp(x[k]);
-    return s;
-  };
+  Result result;
   std::vector<std::pair<std::vector<double>, double>> seen;  // the simplex revisits points: run each once
   auto objective = [&](const std::vector<double>& x) {
     for (const auto& [at, value] : seen)
       if (at == x) return value;
-    const OrificeScene s = parameters_at(x);
+    std::optional<double> gamma, drag;
+    std::size_t k = 0;
+    if (fit_gamma) gamma = std::exp(x[k++]);
+    if (fit_drag) drag = std::exp(x[k]);
     const auto start = std::chrono::steady_clock::now();
-    OrificeProfile prof = run_orifice(s);
-    const double vt = s.droplet.terminal_speed;
+    auto prof = simulate(gamma, drag);
     std::vector<double> v(prof.vg.size());
-    for (std::size_t i = 0; i < v.size(); ++i) v[i] = prof.vg[i] / vt;
+    for (std::size_t i = 0; i < v.size(); ++i) v[i] = prof.vg[i] / terminal_speed;
     const double dv = speed_deviation(measured, prof.h, v);
-    const CalibrationEvaluation e{s.droplet.line_tension, s.droplet.near_wall_drag, dv, prof.outcome,
-                                  std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()};
+    const typename Result::Evaluation e{
+        gamma.value_or(guess.line_tension), drag.value_or(guess.near_wall_drag), dv, prof.outcome,
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()};
     result.history.push_back(e);
     if (on_evaluation) on_evaluation(e);
     if (dv < result.speed_deviation) {

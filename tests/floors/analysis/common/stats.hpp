@@ -1,0 +1,2 @@
+// stats.hpp — fixture for scripts/check_floors (see fit.hpp).
+#pragma once

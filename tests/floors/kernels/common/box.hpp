@@ -1,0 +1,2 @@
+// box.hpp — fixture for scripts/check_floors (see vec.hpp).
+#pragma once

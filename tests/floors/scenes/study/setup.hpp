@@ -1,0 +1,2 @@
+// setup.hpp — fixture for scripts/check_floors (see scene.hpp).
+#pragma once
