@@ -153,6 +153,25 @@ inline ShearPlaneShape shear_plane_shape(const std::vector<Eigen::Vector3d>& y) 
   return s;
 }
 
+// The measures of one constriction sample from its outer layer y (lattice units; d the capsule's
+// diameter, a its radius): D_∞,x,y,z, the outline of the xy-plane through the channel's centre
+// (z = d), and C_f, C_r at the channel axis y = d.
+struct SampleShape {
+  std::array<double, 3> D{};
+  std::vector<Eigen::Vector2d> section;
+  double cf = 0, cr = 0;
+};
+
+inline SampleShape sample_shape(const std::vector<Eigen::Vector3d>& y, const std::vector<std::array<int, 3>>& triangles,
+                                double x_c, double d, double a) {
+  SampleShape m;
+  m.D = deformation_indices(y, d);
+  m.section = midplane_section(y, triangles, d);
+  m.cf = tip_curvature(m.section, x_c, d, +1, a);
+  m.cr = tip_curvature(m.section, x_c, d, -1, a);
+  return m;
+}
+
 // Pearson's r of eq. (17); NaN with fewer than two points or no spread.
 inline double pearson_r(const std::vector<double>& x, const std::vector<double>& y) {
   const std::size_t n = std::min(x.size(), y.size());

@@ -80,6 +80,14 @@ double corrected_flow_rate(double Q, double number_density, double mean_particle
 
 namespace mesoflow::hopper {
 
+// The Beverloo fit of a w sweep's flowing widths (fit_beverloo), when at least 4 widths flow.
+inline std::optional<BeverlooFit> beverloo_fit(const std::vector<double>& x, const std::vector<double>& Q,
+                                               const std::vector<double>& Q_error) {
+  std::optional<BeverlooFit> fit;
+  if (x.size() >= 4) fit = fit_beverloo(x, Q, Q_error);
+  return fit;
+}
+
 // Output tables of the fits (the `hopper` driver).
 // <stem>_fit.csv: the Beverloo fit over `points` widths.
 inline void write_beverloo_csv(const std::string& path, const BeverlooFit& fit, std::size_t points) {
@@ -110,6 +118,25 @@ inline void write_vary_csv(const std::string& path, const std::string& name, con
       csv << ",,,,,,,\n";
     }
   }
+}
+
+// The sigmoid β(λ) of eq. 14 over the `points` sweeps of an outer sweep with 0 < λ < ∞.
+struct VarySigmoid {
+  SigmoidFit fit;
+  std::size_t points = 0;
+};
+
+// The outputs of an outer sweep `name` over `values` (λ = ζ/μ and the Beverloo fit of each):
+// <stem>_vary.csv at `path` (write_vary_csv), and, when drag or friction varies (`dissipation`) and
+// at least 3 fits have 0 < λ < ∞, the sigmoid β(λ) of eq. 14 in `dimension` dimensions.
+inline std::optional<VarySigmoid> vary_outputs(const std::string& path, const std::string& name,
+                                               const std::vector<double>& values, const std::vector<double>& lambdas,
+                                               const std::vector<std::optional<BeverlooFit>>& fits, bool dissipation,
+                                               int dimension) {
+  std::vector<double> x, beta, beta_error;  // the fits with 0 < λ < ∞
+  write_vary_csv(path, name, values, lambdas, fits, x, beta, beta_error);
+  if (!(dissipation && x.size() >= 3)) return std::nullopt;
+  return VarySigmoid{fit_beta_sigmoid(x, beta, beta_error, dimension), x.size()};
 }
 
 }  // namespace mesoflow::hopper

@@ -22,6 +22,7 @@
 #include <iomanip>
 #include <string>
 #include <optional>
+#include <utility>
 #include <vector>
 
 namespace mesoflow::pillars {
@@ -138,6 +139,37 @@ inline PermeabilityEstimates estimate_permeability(const FlowMeasurement& m) {
   return e;
 }
 
+// The square-array theories of κ/d² at porosity ε (Fig. 7(b)), named as in the run summary.
+inline std::array<std::pair<const char*, double>, 4> square_array_theory(double eps) {
+  return {{{"gebart_square", kappa_gebart_square(eps)},
+           {"drummond_tahir_square", kappa_drummond_tahir_square(eps)},
+           {"sangani_acrivos_dense", kappa_sangani_acrivos_dense(eps)},
+           {"tsay_weinbaum_fit", kappa_tsay_weinbaum_fit(eps)}}};
+}
+
+// Brinkman's fit (eq. 5, α) with the pillars' own permeability κ_p (from the matching 2D run), walls
+// H apart: κ_p, μ_eff/μ, eq. (7)'s κ_eff and B's theory value κ_p Δp/(μ L_x), named as in the run
+// summary.
+inline std::array<std::pair<const char*, double>, 4> brinkman_theory(double kappa_p, double alpha, double H,
+                                                                     double pressure_difference, double mu,
+                                                                     double Lx) {
+  return {{{"kappa_p", kappa_p},
+           {"mu_eff_over_mu", mu_eff_ratio(kappa_p, alpha)},
+           {"kappa_eff_eq7", kappa_eff_brinkman(kappa_p, alpha, H)},
+           {"B_theory", kappa_p * pressure_difference / (mu * Lx)}}};
+}
+
+// The elevation profile of a flow run as CSV at `path`: per bin z, the fluid samples `count`, ⟨u_x⟩,
+// u_s, the pillar force density and the Brinkman fit.
+inline void write_flow_profile(const std::string& path, const PermeabilityEstimates& e,
+                               const std::vector<double>& count) {
+  std::ofstream csv(path);
+  csv << "z,fluid_samples,mean_ux,u_s,pillar_force_density,brinkman_fit\n" << std::setprecision(10);
+  for (std::size_t b = 0; b < count.size(); ++b)
+    csv << e.z[b] << "," << count[b] << "," << e.mean_ux[b] << "," << e.u_s[b] << "," << e.pillar_force_density[b]
+        << "," << e.brinkman[b] << "\n";
+}
+
 // The viscosity of periodic Poiseuille flow (Backer et al. 2005) from its velocity profile: the
 // force ±g reverses at z = 0 and L/2, so u(z) = s(z) a q(z) + c with q = z'(L/2 − z'), s = ±1 by
 // half; a and c by linear least squares over the bins more than r_A = 1 from the reversal planes
@@ -198,6 +230,13 @@ inline PoiseuilleViscosity fit_poiseuille_viscosity(const std::vector<double>& c
   r.fit.resize(bins);
   for (int b = 0; b < bins; ++b) r.fit[b] = r.a * model_q[b] + r.c;
   return r;
+}
+
+// The velocity profile of the Poiseuille run and its fit as CSV at `path` (z, ⟨u_x⟩, fit per bin).
+inline void write_viscosity_profile(const std::string& path, const PoiseuilleViscosity& fit) {
+  std::ofstream csv(path);
+  csv << "z,mean_ux,fit\n" << std::setprecision(10);
+  for (std::size_t b = 0; b < fit.z.size(); ++b) csv << fit.z[b] << "," << fit.u[b] << "," << fit.fit[b] << "\n";
 }
 
 // The square-array theory curves of Fig. 7(b) (and the hexagonal ones) over ε = 0.40 … 0.99 as

@@ -181,4 +181,27 @@ std::vector<double> parse_number_list(const std::string& text, const std::string
   return out;
 }
 
+// The comma list `text` of option `flag`, each value in (lo, hi] (parse_number_list).
+inline std::vector<double> parse_number_list_in(const std::string& text, const std::string& flag, double lo,
+                                                double hi) {
+  std::ostringstream range;
+  range << "in (" << lo << ", " << hi << "]";
+  return parse_number_list(text, flag, [=](double v) { return v > lo && v <= hi; }, range.str());
+}
+
+// A CLI11 check of option `flag`: its text is a comma list of values in (lo, hi]
+// (parse_number_list_in), else the error names the option, the item and the range.
+inline CLI::Validator number_list_check(const std::string& flag, double lo, double hi) {
+  return CLI::Validator(
+      [=](std::string& text) {
+        try {
+          parse_number_list_in(text, flag, lo, hi);
+          return std::string();
+        } catch (const std::exception& e) {
+          return std::string(e.what());
+        }
+      },
+      "LIST");
+}
+
 }  // namespace mesoflow::cli

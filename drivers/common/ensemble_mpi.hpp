@@ -14,6 +14,7 @@
 
 #include <cstddef>
 #include <cstring>
+#include <stdexcept>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -84,6 +85,21 @@ T read_bytes(const std::vector<char>& in, std::size_t& offset) {
   std::memcpy(&value, in.data() + offset, sizeof(T));
   offset += sizeof(T);
   return value;
+}
+
+// The `count` work items that rank 0 gathered (`gathered`: per rank, each item's index as
+// append_bytes wrote it, then the item as T::append_bytes wrote it, read by T::read_bytes), in item
+// order; an index out of range is an error naming `who`.
+template <class T>
+std::vector<T> read_items(const std::vector<std::vector<char>>& gathered, std::size_t count, const std::string& who) {
+  std::vector<T> items(count);
+  for (const std::vector<char>& bytes : gathered)
+    for (std::size_t offset = 0; offset < bytes.size();) {
+      const auto k = read_bytes<std::size_t>(bytes, offset);
+      if (k >= items.size()) throw std::runtime_error(who + ": a rank sent work item " + std::to_string(k));
+      items[k].read_bytes(bytes, offset);
+    }
+  return items;
 }
 
 }  // namespace mesoflow::ensemble

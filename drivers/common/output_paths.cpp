@@ -2,10 +2,12 @@
 
 #include "io/hdf5_util.hpp"
 
+#include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <iomanip>
 #include <iostream>
+#include <sstream>
 #include <stdexcept>
 
 namespace mesoflow::driver {
@@ -47,6 +49,22 @@ void write_observables_csv(const std::string& h5md_path, const std::string& csv_
     csv << '\n';
   }
   if (!csv) throw std::runtime_error("error while writing " + csv_path);
+}
+
+void write_atomically(const std::string& path, const std::string& text) {
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream f(tmp);
+    f << text;
+    if (!f) throw std::runtime_error("cannot write " + tmp);
+  }
+  if (std::rename(tmp.c_str(), path.c_str()) != 0) throw std::runtime_error("cannot rename " + tmp + " to " + path);
+}
+
+std::string tag(double v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
 }
 
 void plot_with_matplotlib(const std::string& driver, const std::string& script, const std::vector<std::string>& arguments,

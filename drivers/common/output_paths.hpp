@@ -18,6 +18,12 @@ struct OutputPaths {
 void write_observables_csv(const std::string& h5md_path, const std::string& csv_path,
                            const std::vector<std::string>& names);
 
+// Writes `text` to `path` atomically: a temporary beside it, then a rename.
+void write_atomically(const std::string& path, const std::string& text);
+
+// A number as a default std::ostream writes it (6 significant digits), for file names and labels.
+std::string tag(double v);
+
 // Runs scripts/<script> of the source tree with Debian's /usr/bin/python3 (python3-matplotlib;
 // whatever python3 comes first on PATH may lack it) and `arguments`, each single-quoted, to write
 // `png`. A failure is a warning naming the plot, not an error: the CSV beside it holds the data.

@@ -25,182 +25,69 @@
 // eq. 5; analysis/crystal/phonon_spectra.hpp), <out>_theory.csv and <out>_phonons.png
 // (scripts/plot_crystal.py). Frames before --warmup are written but left out of K and the spectra.
 // <out>.ckpt.h5 is replaced atomically every --checkpoint-interval; --restart continues from it.
-// The scene: scenes/crystal/channel_flow.hpp (its terms, watchdog view and checkpoint fields) and
-// scenes/crystal/crystal_record.hpp (disc placement, frames, far field); η of eq. (B.3):
-// kernels/mpc/mpc_viscosity.hpp.
-#include "analysis/crystal/dispersion_theory.hpp"
-#include "analysis/crystal/phonon_spectra.hpp"
+// The scene: scenes/crystal/channel_flow.hpp (its terms, watchdog view and checkpoint fields),
+// scenes/crystal/crystal_record.hpp (disc placement, frames, far field) and
+// scenes/crystal/crystal_run.hpp (the run, its frames and checkpoints); η of eq. (B.3):
+// kernels/mpc/mpc_viscosity.hpp; K and the phonon analysis: analysis/crystal/run_analysis.hpp.
+#include "analysis/crystal/run_analysis.hpp"
 #include "drivers/common/cli.hpp"
 #include "drivers/common/json_summary.hpp"
 #include "drivers/common/output_paths.hpp"
 #include "drivers/common/progress.hpp"
-#include "io/checkpoint.hpp"
-#include "io/h5md_writer.hpp"
-#include "kernels/mpc/mpc_viscosity.hpp"
-#include "scenes/common/checkpoint_fields.hpp"
-#include "scenes/common/nan_watchdog.hpp"
+#include "drivers/common/restart.hpp"
 #include "scenes/common/time_step_limit.hpp"
-#include "scenes/crystal/crystal_record.hpp"
+#include "scenes/crystal/crystal_run.hpp"
 
-#include <array>
 #include <chrono>
-#include <cmath>
-#include <fstream>
-#include <iomanip>
 #include <iostream>
-#include <optional>
-#include <sstream>
 
 namespace mesoflow {
 namespace {
 
-struct Parameters {
-  mpc::ChannelFlowParameters<double> flow;
-  std::string rule = "at+a";
-  std::string wall_virtual = "mirror";  // mpc::WallVirtualRule: mirror images or Appendix B's particles
-  long long discs = 90;
-  long long wavelength = 6;  // discs per zigzag period
-  double amplitude = -1;     // zigzag amplitude /Δx; < 0: the largest without wall contact
-  double warmup = 0;         // τ before the measured frames
-  double time = 100;         // τ measured
-  double frame_interval = 1; // τ between frames
-  double checkpoint_interval = 500;  // τ between checkpoints
-  long long check_every = 100;       // steps between NaN-watchdog checks
-  double calibrated_ratio = 0;  // K of a single-disc run for the theory curves; 0: this run's u_d/u_oil
-  long long seed = 1;
-  std::string precision = "double";
+struct Parameters : crystal::CrystalRunParameters {
   int threads = 0;
   bool restart = false;
   bool no_plot = false;
   bool force_dt = false;  // --force-dt
 };
 
-// η of eq. (B.3) (MPC-AT+a, d = 2, large n).
-double viscosity_b3(const mpc::ChannelFlowParameters<double>& p) {
-  return mpc::at_plus_a_viscosity(p.density, p.kT, p.mass, p.h, p.cell_size);
-}
-
-// The parameters a restart must share with the run it continues (all but the run length,
-// output and threads), as a string stored in the checkpoint.
-std::string scene_signature(const Parameters& par) {
-  const auto& f = par.flow;
-  std::ostringstream s;
-  s << std::setprecision(17) << "L=" << f.length << " W=" << f.width << " R=" << f.disc_radius << " n=" << f.density
-    << " h=" << f.h << " g=" << f.body_acceleration << " gamma=" << f.friction << " eps=" << f.wca_epsilon
-    << " r0=" << f.wca_r0 << " rule=" << par.rule << " walls=" << par.wall_virtual << " N=" << par.discs
-    << " wavelength=" << par.wavelength
-    << " amplitude=" << par.amplitude << " warmup=" << par.warmup << " frame=" << par.frame_interval
-    << " seed=" << par.seed << " precision=" << par.precision;
-  return s.str();
-}
-
 template <class Real>
 void run(const Parameters& par, const cli::DriverApp& app) {
-  using Exec = Kokkos::DefaultExecutionSpace;
   const driver::OutputPaths out(app.output());
   const std::string base = out.csv.substr(0, out.csv.size() - 4);
   const auto& f = par.flow;
-  auto fp = mpc::converted<Real>(f);
-  fp.walls = true;
-  fp.rule = mpc::parse_collision_rule(par.rule);
-  fp.wall_virtual = mpc::parse_wall_virtual_rule(par.wall_virtual);
-  fp.seed = std::uint64_t(par.seed);
-  if (std::abs(f.length / f.cell_size - std::round(f.length / f.cell_size)) > 1e-9)
-    throw std::invalid_argument("--length " + std::to_string(f.length) + ": must be a multiple of the cell size");
-  const auto centres_d = crystal::zigzag(f, par.discs, par.wavelength, par.amplitude);
-  std::vector<std::array<Real, 2>> centres;
-  for (const auto& c : centres_d) centres.push_back({Real(c[0]), Real(c[1])});
-  mpc::ChannelFlow<Real, Exec> flow(fp, centres);
-  const std::size_t nd = centres.size();
-
-  const auto steps_of = [&](double t) { return std::int64_t(std::llround(t / f.h)); };
-  const std::int64_t warmup_steps = steps_of(par.warmup);
-  const std::int64_t total_steps = warmup_steps + steps_of(par.time);
-  const std::int64_t frame_steps = std::max<std::int64_t>(1, steps_of(par.frame_interval));
-  const std::int64_t checkpoint_steps = std::max<std::int64_t>(1, steps_of(par.checkpoint_interval));
-
-  crystal::CrystalRecord rec(f, centres_d, warmup_steps);
-  const bool far = rec.far_field().bins > 0;
-  std::optional<io::H5mdWriter> h5;
+  crystal::CrystalRun<Real> run(par, out.checkpoint, crystal::scene_signature(par));
+  const auto& flow = run.flow();
+  const auto& rec = run.record();
+  const std::size_t nd = run.discs();
+  const bool far = run.far_field();
   if (par.restart) {
     const io::CheckpointReader ck(out.checkpoint);
-    const std::string stored = ck.get_string("scene");
-    if (stored != scene_signature(par))
-      throw std::invalid_argument("--restart: " + out.checkpoint + " was written by another scene (" + stored +
-                                  "); only --time, --checkpoint-interval, --check-every, --threads and --no-plot may change");
-    scene::LoadFields load(ck);
-    flow.checkpoint_fields(load);
-    rec.checkpoint_fields(load);
-    h5.emplace(io::H5mdWriter::resume(out.trajectory, std::int64_t(flow.steps_done())));
+    driver::check_restart_scene(ck, out.checkpoint, crystal::scene_signature(par),
+                                "--time, --checkpoint-interval, --check-every, --threads and --no-plot");
+    run.resume(ck, out.trajectory);
     if (!app.quiet()) std::cerr << "crystal: resumed from " << out.checkpoint << " at step " << flow.steps_done() << "\n";
   } else {
-    h5.emplace(out.trajectory, "mesoflow", MESOFLOW_VERSION, "mesoflow crystal");
-    for (const auto& [key, value] : app.resolved_parameters()) h5->set_parameter(key, value);
-    h5->set_parameter("solvent_particles", flow.num_solvent());
-    h5->set_parameter("disc_mass", double(flow.discs().mass()));
-    h5->set_parameter("viscosity_b3", viscosity_b3(f));
-    h5->add_particles_group("discs", 2, nd, {0.0, 0.0}, {f.length, f.width}, {true, false});
+    run.start(out.trajectory, app.resolved_parameters());
   }
-  const auto record = [&] {
-    const auto fr = rec.record(flow);
-    h5->append("discs", "position", fr.step, fr.time, fr.position.data(), nd, 2);
-    h5->append("discs", "velocity", fr.step, fr.time, fr.velocity.data(), nd, 2);
-    h5->append_observable("u_oil", fr.step, fr.time, fr.u_oil);
-    h5->append_observable("u_d", fr.step, fr.time, fr.u_d);
-    if (far) {
-      h5->append_observable("u_far_mean", fr.step, fr.time, fr.far_speeds[0]);
-      h5->append_observable("u_far_axis", fr.step, fr.time, fr.far_speeds[1]);
-    }
-  };
-  const auto checkpoint = [&] {
-    h5->flush();
-    io::CheckpointWriter ck(out.checkpoint);
-    scene::SaveFields save(ck);
-    flow.checkpoint_fields(save);
-    rec.checkpoint_fields(save);
-    ck.put_string("scene", scene_signature(par));
-    ck.commit();
-  };
-  if (!par.restart) record();
 
-  const std::int64_t first = std::int64_t(flow.steps_done());
+  const std::int64_t first = std::int64_t(flow.steps_done()), total_steps = run.total_steps();
   cli::ProgressLine progress(total_steps - first, std::int64_t(flow.num_solvent()), !app.quiet());
   const auto wall_start = std::chrono::steady_clock::now();
-  // The NaN watchdog, also checked before every frame and checkpoint: the last checkpoint always
-  // holds a finite state.
-  watchdog::NanWatchdog watch(flow.watched(), par.check_every);
-  while (std::int64_t(flow.steps_done()) < total_steps) {
-    flow.step();
-    watch.after_step();
-    const std::int64_t step = std::int64_t(flow.steps_done());
-    const bool frame = step % frame_steps == 0 || step == total_steps;
-    const bool at_checkpoint = step % checkpoint_steps == 0 || step == total_steps;
-    if (frame || at_checkpoint) watch.check();
-    if (frame) record();
-    if (at_checkpoint) checkpoint();
-    progress.update(step - first);
-  }
+  run.run([&](std::int64_t step) { progress.update(step - first); });
   progress.finish();
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
-  h5->write_xdmf(out.xdmf);
-  h5.reset();
+  run.close(out.xdmf);
   if (far)
     driver::write_observables_csv(out.trajectory, out.csv, {"u_oil", "u_d", "u_far_mean", "u_far_axis"});
   else
     driver::write_observables_csv(out.trajectory, out.csv, {"u_oil", "u_d"});
 
-  // Measured frames: step >= warmup (the frame at the warmup step included).
-  std::size_t first_frame = 0;
-  while (first_frame < rec.steps.size() && rec.steps[first_frame] < warmup_steps) ++first_frame;
-  const std::size_t frames = rec.steps.size() - first_frame;
-  if (frames < 2) throw std::runtime_error("crystal: fewer than two measured frames; raise --time or lower --frame-interval");
-  double ud = 0, uoil = 0;
-  for (std::size_t t = first_frame; t < rec.steps.size(); ++t) {
-    ud += rec.u_d[t] / double(frames);
-    uoil += rec.u_oil[t] / double(frames);
-  }
+  const auto m = crystal::measured_frames(rec.steps, rec.u_d, rec.u_oil, run.warmup_steps());
+  const std::size_t frames = m.count;
+  const double ud = m.u_d, uoil = m.u_oil;
   const double K = ud / uoil;
-  const double eta = viscosity_b3(f);
+  const double eta = crystal::viscosity_b3(f);
   const double rho = f.density * f.mass / (f.cell_size * f.cell_size);
   const double reynolds = rho * uoil * f.disc_radius / eta;
   const double peclet = uoil * f.disc_radius * f.friction / f.kT;  // D = k_BT/γ (plate friction dominates)
@@ -211,12 +98,7 @@ void run(const Parameters& par, const cli::DriverApp& app) {
   if (far) {
     // The far-field profile over the measured frames, its mean and its centre line.
     const auto& ff = rec.far_field();
-    std::ofstream csv(base + "_far_profile.csv");
-    csv << std::setprecision(10) << "y,u_x,samples\n";
-    for (int b = 0; b < ff.bins; ++b) {
-      const double c = rec.far_count[std::size_t(b)];
-      csv << (b + 0.5) * ff.bin_width << "," << (c > 0 ? rec.far_sum[std::size_t(b)] / c : 0.0) << "," << c << "\n";
-    }
+    rec.write_far_profile(base + "_far_profile.csv");
     const auto [u_far, u_axis] = rec.far_speeds();
     j["far_field"] = {{"from_disc", ff.from_disc}, {"u_mean", u_far}, {"u_axis", u_axis},
                       {"K_mean", u_far != 0 ? ud / u_far : 0.0}, {"K_axis", u_axis != 0 ? ud / u_axis : 0.0}};
@@ -225,25 +107,14 @@ void run(const Parameters& par, const cli::DriverApp& app) {
                 << ", on the axis " << u_axis << "; u_d/u_axis = " << (u_axis != 0 ? ud / u_axis : 0.0) << "\n";
   }
   if (nd >= 2) {
-    const double spacing = f.length / double(nd);
-    std::vector<double> x(rec.x.begin() + std::ptrdiff_t(first_frame * nd), rec.x.end());
-    std::vector<double> y(rec.y.begin() + std::ptrdiff_t(first_frame * nd), rec.y.end());
-    // Appendix B: the theory takes K from an independent single-disc run when one is given, with
-    // this run's droplet velocity: u_oil = u_d/K.
-    const double theory_uoil = par.calibrated_ratio > 0 ? ud / par.calibrated_ratio : uoil;
-    const crystal::CrystalParameters cp{spacing, f.width, f.disc_radius, ud, theory_uoil};
-    const auto el = crystal::elongations(x, y, nd, frames, spacing, 0.5 * f.width);
-    const double dt_frame = double(frame_steps) * f.h;
-    const auto spectra = crystal::power_spectra(el, spacing, dt_frame);
-    const auto corr = crystal::mode_correlation(el, spacing);
-    crystal::write_phonon_analysis(base + "_phonons.h5", cp, spectra, corr);
-    const crystal::DispersionTheory theory(cp);
-    crystal::write_theory_csv(base + "_theory.csv", theory);
-    j["theory_K"] = ud / theory_uoil;
-    j["spacing"] = spacing;
-    j["B"] = theory.B();
-    j["beta"] = theory.beta();
-    j["phase_velocity"] = theory.phase_velocity();
+    const double dt_frame = double(run.frame_steps()) * f.h;
+    const auto ph = crystal::phonon_analysis(rec.x, rec.y, m, nd, f.length, f.width, f.disc_radius,
+                                             par.calibrated_ratio, dt_frame, base + "_phonons.h5", base + "_theory.csv");
+    j["theory_K"] = ud / ph.theory_uoil;
+    j["spacing"] = ph.spacing;
+    j["B"] = ph.B;
+    j["beta"] = ph.beta;
+    j["phase_velocity"] = ph.phase_velocity;
     j["frame_interval"] = dt_frame;
     if (!par.no_plot) {
       const std::string png = base + "_phonons.png";

@@ -36,40 +36,20 @@
 #include "drivers/common/output_paths.hpp"
 #include "analysis/common/block_average.hpp"
 #include "analysis/hopper/flow_rate_fits.hpp"
-#include "scenes/hopper/hopper_sweep.hpp"
+#include "scenes/hopper/hopper_runs.hpp"
 
-#include <fstream>
-#include <iomanip>
 #include <iostream>
 #include <optional>
-#include <sstream>
 
 namespace mesoflow {
 namespace {
 
+using hopper::SweepSpec;
 using hopper::WidthRun;
 
-struct Parameters {
-  std::string vary;    // empty, or the parameter swept in an outer loop (--vary)
-  std::string values;  // its values (--values)
-  hopper::HopperParameters scene;
-  hopper::DpHopperParameters dp;
-  hopper::FlowSettings flow;
-  std::string model = "sp";
-  std::string friction_component = "full";  // --friction-component
-  double dt = 0;  // 0: automatic
-  std::string widths = "4,5,6,7,8";
-  std::string dimension = "2";
+struct Parameters : hopper::HopperRunParameters {
   int threads = 0;
   bool no_plot = false;
-};
-
-// One w sweep: its scene parameters (with the --vary value set), output path and console label
-// ("--drag 0.3" with --vary, else empty).
-template <class SceneParameters>
-struct SweepSpec {
-  SceneParameters base;
-  std::string output, label;
 };
 
 // Rank 0: the outputs of one w sweep from its widths' runs. wall_seconds in the JSON is the sum of
@@ -81,46 +61,30 @@ std::optional<hopper::BeverlooFit> write_sweep(const SweepSpec<SceneParameters>&
   constexpr bool soft_particles = std::is_same_v<SceneParameters, hopper::HopperParameters>;
   const driver::OutputPaths out(sweep.output);
   const std::string base = out.csv.substr(0, out.csv.size() - 4);
-  {
-    io::H5mdWriter h5(out.trajectory, "mesoflow", MESOFLOW_VERSION, "mesoflow hopper");
-    for (const auto& [key, value] : app.resolved_parameters()) h5.set_parameter(key, value);
-    hopper::write_width_outputs(h5, widths, runs, soft_particles);
-  }
-  hopper::write_width_tables(out.csv, base + "_profile.csv", widths, runs);
-  std::vector<double> x, Q, Qe;
-  double wall = 0;
-  long long steps = 0;
+  const hopper::SweepTotals t = hopper::write_sweep_files(out.trajectory, out.csv, base + "_profile.csv",
+                                                          app.resolved_parameters(), widths, runs, soft_particles);
   cli::Json results = cli::Json::array();
   for (std::size_t k = 0; k < widths.size(); ++k) {
     const WidthRun::Scalars& v = runs[k].scalars;
-    wall += v.seconds;
-    steps += v.steps;
-    if (!v.clogged && v.steady && v.Q > 0 && v.Q_error > 0) {
-      x.push_back(widths[k]);
-      Q.push_back(v.Q);
-      Qe.push_back(v.Q_error);
-    }
     const auto or_minus_one = [](double y) { return std::isfinite(y) ? y : -1.0; };
     results.push_back({{"w", widths[k]}, {"Q", v.Q}, {"Q_error", or_minus_one(v.Q_error)},
                        {"Q_corrected", or_minus_one(v.Q_corrected)}, {"number_density_orifice", or_minus_one(v.rho_n)},
                        {"clogged", v.clogged}, {"steady", v.steady}, {"steady_time", v.steady_time},
                        {"end_time", v.result_end_time}});
   }
-  std::optional<hopper::BeverlooFit> fit;
-  if (x.size() >= 4) fit = hopper::fit_beverloo(x, Q, Qe);
-  cli::Json json{{"driver", "hopper"}, {"model", par.model}, {"dimension", D}, {"results", results}};
-  json["beverloo"] = nullptr;
+  const std::optional<hopper::BeverlooFit> fit = hopper::beverloo_fit(t.x, t.Q, t.Qe);
+  cli::Json json{{"driver", "hopper"}, {"model", par.model}, {"dimension", D}, {"results", results}, {"beverloo", nullptr}};
   if (fit) {
     json["beverloo"] = {{"C", fit->C}, {"C_error", fit->C_error}, {"k", fit->k}, {"k_error", fit->k_error},
                         {"beta", fit->beta}, {"beta_error", fit->beta_error}, {"chi2_per_dof", fit->chi2_per_dof},
-                        {"points", x.size()}};
-    hopper::write_beverloo_csv(base + "_fit.csv", *fit, x.size());
+                        {"points", t.x.size()}};
+    hopper::write_beverloo_csv(base + "_fit.csv", *fit, t.x.size());
   }
   json["ranks"] = ranks.size();
-  json["steps"] = steps;
-  json["wall_seconds"] = wall;
+  json["steps"] = t.steps;
+  json["wall_seconds"] = t.wall;
   json[std::string(soft_particles ? "particle" : "vertex") + "_steps_per_second"] =
-      wall > 0 ? double(steps) * sweep.base.particles * bodies / wall : 0.0;
+      t.wall > 0 ? double(t.steps) * sweep.base.particles * bodies / t.wall : 0.0;
   json["kokkos"] = kokkos_configuration();
   cli::write_summary(out.summary, json);
   if (!par.no_plot) {
@@ -130,7 +94,7 @@ std::optional<hopper::BeverlooFit> write_sweep(const SweepSpec<SceneParameters>&
   }
   if (!app.quiet() && !sweep.label.empty()) std::cout << "hopper: " << sweep.label << "\n";
   if (!app.quiet() && fit)
-    std::cout << "hopper: Beverloo fit over " << x.size() << " widths: C = " << fit->C << " ± " << fit->C_error
+    std::cout << "hopper: Beverloo fit over " << t.x.size() << " widths: C = " << fit->C << " ± " << fit->C_error
               << ", k = " << fit->k << " ± " << fit->k_error << ", β = " << fit->beta << " ± " << fit->beta_error << "\n";
   return fit;
 }
@@ -148,8 +112,7 @@ std::vector<std::optional<hopper::BeverlooFit>> run(const std::vector<SweepSpec<
     const double W = sweep.base.hopper_width;
     widths.push_back(cli::parse_number_list(
         par.widths, "--widths", [W](double w) { return w > 0 && w < W; }, "in (0, W = " + std::to_string(W) + ")"));
-    for (std::size_t k = 0; k < widths.back().size(); ++k)
-      hopper::validate(hopper::at_width(sweep.base, widths.back()[k], k), D);  // before any output
+    hopper::validate_widths(sweep.base, widths.back(), D);  // before any output
   }
   par.flow.validate();
   const std::size_t n_widths = widths.front().size();
@@ -173,23 +136,12 @@ std::vector<std::optional<hopper::BeverlooFit>> run(const std::vector<SweepSpec<
   // Rank 0 gathers every width's run and writes the outputs; the other ranks are done.
   const std::vector<std::vector<char>> gathered = ranks.gather(sent);
   if (!ranks.root()) return {};
-  std::vector<WidthRun> runs(sweeps.size() * n_widths);
-  for (const std::vector<char>& bytes : gathered)
-    for (std::size_t offset = 0; offset < bytes.size();) {
-      const auto k = ensemble::read_bytes<std::size_t>(bytes, offset);
-      if (k >= runs.size()) throw std::runtime_error("hopper: a rank sent work item " + std::to_string(k));
-      runs[k].read_bytes(bytes, offset);
-    }
+  std::vector<WidthRun> runs = ensemble::read_items<WidthRun>(gathered, sweeps.size() * n_widths, "hopper");
   if constexpr (std::is_same_v<SceneParameters, hopper::HopperParameters>)  // Q' of Appendix B
-    for (WidthRun& r : runs)
-      if (r.scalars.rho_n > 0)
-        r.scalars.Q_corrected = hopper::corrected_flow_rate(r.scalars.Q, r.scalars.rho_n, Scene::mean_particle_measure());
+    hopper::correct_flow_rates(runs, Scene::mean_particle_measure(), hopper::corrected_flow_rate);
   std::vector<std::optional<hopper::BeverlooFit>> fits;
   for (std::size_t s = 0; s < sweeps.size(); ++s)
-    fits.push_back(write_sweep<D>(
-        sweeps[s], widths[s],
-        std::vector<WidthRun>(runs.begin() + std::ptrdiff_t(s * n_widths), runs.begin() + std::ptrdiff_t((s + 1) * n_widths)),
-        par, app, ranks, bodies));
+    fits.push_back(write_sweep<D>(sweeps[s], widths[s], hopper::sweep_runs(runs, s, n_widths), par, app, ranks, bodies));
   return fits;
 }
 
@@ -198,7 +150,7 @@ std::vector<std::optional<hopper::BeverlooFit>> run(const std::vector<SweepSpec<
 // against the value and λ = ζ/μ, and <out>_vary.json with the sigmoid β(λ) of eq. 14 when drag or
 // friction is varied and at least 3 sweeps have a fit with 0 < λ < ∞.
 template <class Scene, int D, class SceneParameters, class Make>
-void run_sweeps(Parameters par, const cli::DriverApp& app, const ensemble::Ranks& ranks, int bodies, Make&& make) {
+void run_sweeps(const Parameters& par, const cli::DriverApp& app, const ensemble::Ranks& ranks, int bodies, Make&& make) {
   if (par.vary.empty()) {
     run<Scene, D>(std::vector<SweepSpec<SceneParameters>>{{make(par), app.output(), ""}}, par, app, ranks, bodies);
     return;
@@ -209,27 +161,18 @@ void run_sweeps(Parameters par, const cli::DriverApp& app, const ensemble::Ranks
       dissipation ? ">= 0" : "> 0");
   const driver::OutputPaths out(app.output());
   const std::string stem = out.csv.substr(0, out.csv.size() - 4);
-  std::vector<SweepSpec<SceneParameters>> sweeps;
   std::vector<double> lambdas;
-  for (const double v : values) {
-    hopper::set_varied(par.vary, v, par.scene, par.dp);
-    std::ostringstream name, label;
-    name << stem << '_' << par.vary << v << ".h5";
-    label << "--" << par.vary << " " << v;
-    sweeps.push_back({make(par), name.str(), label.str()});
-    lambdas.push_back(par.scene.friction > 0 ? par.scene.drag / par.scene.friction : HUGE_VAL);
-  }
+  const auto sweeps = hopper::vary_sweeps<SceneParameters>(par, values, stem, make, lambdas);
   const auto fits = run<Scene, D>(sweeps, par, app, ranks, bodies);
   if (!ranks.root()) return;  // rank 0 has every sweep's fit
-  std::vector<double> x, beta, beta_error;  // the fits with 0 < λ < ∞
-  hopper::write_vary_csv(stem + "_vary.csv", par.vary, values, lambdas, fits, x, beta, beta_error);
+  const auto vary = hopper::vary_outputs(stem + "_vary.csv", par.vary, values, lambdas, fits, dissipation, D);
   cli::Json json{{"vary", par.vary}, {"sigmoid", nullptr}};
-  if (dissipation && x.size() >= 3) {
-    const auto sig = hopper::fit_beta_sigmoid(x, beta, beta_error, D);
+  if (vary) {
+    const hopper::SigmoidFit& sig = vary->fit;
     json["sigmoid"] = {{"lambda_c", sig.lambda_c}, {"lambda_c_error", sig.lambda_c_error}, {"stretch", sig.stretch},
-                       {"stretch_error", sig.stretch_error}, {"chi2_per_dof", sig.chi2_per_dof}, {"points", x.size()}};
+                       {"stretch_error", sig.stretch_error}, {"chi2_per_dof", sig.chi2_per_dof}, {"points", vary->points}};
     if (!app.quiet())
-      std::cout << "hopper: β(λ) sigmoid (eq. 14) over " << x.size() << " sweeps: λ_c = " << sig.lambda_c << " ± "
+      std::cout << "hopper: β(λ) sigmoid (eq. 14) over " << vary->points << " sweeps: λ_c = " << sig.lambda_c << " ± "
                 << sig.lambda_c_error << ", 1/b = " << sig.stretch << " ± " << sig.stretch_error << "\n";
   }
   cli::write_summary(stem + "_vary.json", json);
@@ -292,26 +235,16 @@ int main(int argc, char** argv) {
   app.add_int("--threads", par.threads, "host threads (0: OMP_NUM_THREADS or all cores)", 0, 4096);
   app.add_flag("--no-plot", par.no_plot, "do not write the PNG plot");
   return ranks.finish(app.run(argc, argv, [&] {
-    if (par.model == "dp" && par.dimension != "2")
-      throw std::invalid_argument("--dimension: the dp model is 2D only, got " + par.dimension);
-    if (par.vary == "pair-energy" && par.model != "sp")
-      throw std::invalid_argument("--vary pair-energy: needs --model sp");
-    if ((par.vary == "perimeter-stiffness" || par.vary == "bending") && par.model != "dp")
-      throw std::invalid_argument("--vary " + par.vary + ": needs --model dp");
-    if (par.vary.empty() && !par.values.empty()) throw std::invalid_argument("--values: needs --vary");
+    par.check_combinations();
     s.friction_component = d.friction_component = mesoflow::sp::parse_friction_component(par.friction_component);
     ranks.start();
     mesoflow::KokkosScope kokkos(par.threads);
-    const int dim = par.dimension == "2" ? 2 : 3;
     using namespace mesoflow::hopper;
     if (par.model == "dp")
-      mesoflow::run_sweeps<DpHopperScene<>, 2, DpHopperParameters>(
-          par, app, ranks, par.dp.vertices, [](const mesoflow::Parameters& p) { return polygon_parameters(p.scene, p.dp, p.dt); });
-    else if (dim == 2)
-      mesoflow::run_sweeps<HopperScene<2>, 2, HopperParameters>(
-          par, app, ranks, 1, [](const mesoflow::Parameters& p) { return particle_parameters(p.scene, p.dt, 2); });
+      mesoflow::run_sweeps<DpHopperScene<>, 2, DpHopperParameters>(par, app, ranks, par.dp.vertices, polygon_sweep_parameters);
+    else if (par.dimension == "2")
+      mesoflow::run_sweeps<HopperScene<2>, 2, HopperParameters>(par, app, ranks, 1, particle_sweep_parameters<2>);
     else
-      mesoflow::run_sweeps<HopperScene<3>, 3, HopperParameters>(
-          par, app, ranks, 1, [](const mesoflow::Parameters& p) { return particle_parameters(p.scene, p.dt, 3); });
+      mesoflow::run_sweeps<HopperScene<3>, 3, HopperParameters>(par, app, ranks, 1, particle_sweep_parameters<3>);
   }));
 }

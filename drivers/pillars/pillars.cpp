@@ -22,133 +22,58 @@
 // Output (<out> = --output without extension): <out>.h5 (H5MD: final frame with particle types,
 // observables per sample, parameters), <out>.xdmf, <out>_profile.csv (per bin: z, fluid count,
 // ⟨u_x⟩, u_s, pillar force density, Brinkman fit), <out>_layout.csv (pillar centres), <out>.json
-// (summary with the theory values), <out>.png (profile and fit).
+// (summary with the theory values), <out>.png (profile and fit). The runs as the options give them,
+// and the record of a flow run: scenes/pillars/pillar_runs.hpp.
 #include "analysis/pillars/permeability_estimates.hpp"
 #include "drivers/common/cli.hpp"
 #include "drivers/common/json_summary.hpp"
 #include "drivers/common/output_paths.hpp"
-#include "drivers/common/particle_io.hpp"
 #include "drivers/common/progress.hpp"
-#include "io/checkpoint.hpp"
+#include "drivers/common/restart.hpp"
 #include "scenes/common/time_step_limit.hpp"
-#include "scenes/pillars/pillar_flow.hpp"
+#include "scenes/pillars/pillar_runs.hpp"
 
 #include <chrono>
-#include <cmath>
-#include <fstream>
-#include <iomanip>
 #include <iostream>
-#include <optional>
-#include <set>
 
 namespace mesoflow {
 namespace {
 
-struct Parameters {
+struct Parameters : pillars::PillarRunParameters {
   std::string mode = "flow";
-  int dimension = 2;
-  std::string layout = "square";
-  std::string layout_file;
-  double porosity = 0.7, diameter = 5.0;
-  int cells_x = 4, cells_y = 2, pillars = 30;
-  double aspect = 1.0, exclusion = 1.2;
-  long long mc_sweeps = 20000;
-  double height = 7.5;       // 3D: wall separation H (0: periodic in z)
-  double lz = 5.0;           // 3D without walls, and the viscosity box
-  double box = 10.0;         // viscosity mode: Lx = Ly
-  double fb = -1;            // driving force (−1: 0.2 in 2D, 0.3 in 3D)
-  double driving_length = 5.0;
-  double viscosity = -1;     // μ for κ (−1: the paper's 17.5 in 3D, 26.1 in 2D)
-  double kappa_p = 0;        // pillar permeability for Brinkman's μ_eff (0: not given)
-  double bin_width = 0.5;
-  long long equilibrate_steps = 1000, warmup_steps = 5000, steps = 20000, sample_every = 10;
-  double density = 6.0, A = -40, B = -1, r_B = 0.75, R = 12, dt = 0.01, k_S = 12.5;
-  std::string density_kernel = "normalized", list = "half";
-  long long seed = 2023;
   int threads = 0;
-  long long checkpoint_every = 10000;
-  long long check_every = 100;  // steps between NaN-watchdog checks
   bool restart = false;
   bool force_dt = false;  // --force-dt
 };
-
-// The parameters a restart must share with the run it continues, as a string kept in the
-// checkpoint: all but the run length, the checkpoint interval, the threads and the output options.
-std::string scene_signature(const cli::DriverApp& app) {
-  const std::set<std::string> may_change = {"steps",   "checkpoint-every", "check-every", "threads",
-                                            "restart", "quiet",            "output"};
-  std::string s;
-  for (const auto& [key, value] : app.resolved_parameters())
-    if (may_change.count(key) == 0) s += key + "=" + value + " ";
-  return s;
-}
-
-mdpd::MdpdParameters fluid(const Parameters& par, int dim) {
-  return pillars::pillar_fluid(dim, par.A, par.B, par.r_B, par.R, par.dt, par.density_kernel);
-}
-
-pillars::PillarLayout make_layout(const Parameters& par) {
-  if (par.layout == "none") return {par.box, par.box, par.diameter, {}};
-  if (par.layout == "file") {
-    if (par.layout_file.empty()) throw std::invalid_argument("--layout file needs --layout-file");
-    return pillars::read_csv(par.layout_file);
-  }
-  if (par.layout == "irregular")
-    return pillars::irregular_array(par.pillars, par.porosity, par.diameter, par.aspect, par.exclusion, par.mc_sweeps,
-                                    std::uint64_t(par.seed));
-  return pillars::regular_lattice(pillars::parse_lattice(par.layout), par.porosity, par.diameter, par.cells_x,
-                                  par.cells_y);
-}
 
 template <int D>
 void run_flow(const Parameters& par, const cli::DriverApp& app) {
   const driver::OutputPaths out(app.output());
   const std::string stem = out.trajectory.substr(0, out.trajectory.size() - 3);
   const bool quiet = app.quiet();
-  const pillars::PillarLayout layout = make_layout(par);
-  pillars::PillarFlowSettings s;
-  s.geometry = pillars::flow_geometry(layout, D, par.height, par.lz);
-  s.porosity = par.layout == "none" ? 1.0 : layout.porosity();
-  s.regular_layout = par.layout == "square" || par.layout == "rotated-square" || par.layout == "hexagonal";
-  s.cells_x = par.cells_x;
-  s.fluid = fluid(par, D);
-  s.options.k_S = par.k_S;
-  s.options.list_kind = par.list == "full" ? NeighborListKind::full : NeighborListKind::half;
-  s.density = par.density;
-  s.driving_force = par.fb >= 0 ? par.fb : (D == 2 ? 0.2 : 0.3);
-  s.driving_length = par.driving_length;
-  s.bin_width = par.bin_width;
-  s.seed = std::uint64_t(par.seed);
-  const double mu = par.viscosity > 0 ? par.viscosity : (D == 2 ? 26.1 : 17.5);
+  const pillars::PillarLayout layout = pillars::make_layout(par);
+  const pillars::PillarFlowSettings s = pillars::flow_settings(par, layout, D);
+  const double mu = par.viscosity_for_kappa(D);
   const auto& g = s.geometry;
   if (par.layout != "none") pillars::write_csv(layout, stem + "_layout.csv");
   pillars::PillarFlow<D> flow(s);
   auto& sys = flow.system();
+  // The parameters a restart must share with the run it continues, as a string kept in the
+  // checkpoint: all but the run length, the checkpoint interval, the threads and the output options.
+  const std::string signature = driver::scene_signature(
+      app, {"steps", "checkpoint-every", "check-every", "threads", "restart", "quiet", "output"});
 
-  std::optional<io::H5mdWriter> h5;
   std::int64_t resumed_from_step = 0;  // the checkpoint's step after --restart
+  pillars::FlowRecording<D> recording(flow, out.checkpoint, signature);
   const auto t0 = std::chrono::steady_clock::now();
   if (par.restart) {
-    if (!io::checkpoint_exists(out.checkpoint))
-      throw std::invalid_argument("--restart: no checkpoint " + out.checkpoint + " to resume from");
+    driver::require_checkpoint(out.checkpoint);
     const io::CheckpointReader ck(out.checkpoint);
-    const std::string stored = ck.get_string("scene");
-    if (stored != scene_signature(app))
-      throw std::invalid_argument("--restart: " + out.checkpoint + " was written by another scene (" + stored +
-                                  "); only --steps, --checkpoint-every, --check-every and --threads may change");
-    scene::LoadFields load(ck);
-    flow.checkpoint_fields(load);
-    resumed_from_step = std::int64_t(sys.current_step());
-    h5.emplace(io::H5mdWriter::resume(out.trajectory, resumed_from_step));
+    driver::check_restart_scene(ck, out.checkpoint, signature, "--steps, --checkpoint-every, --check-every and --threads");
+    resumed_from_step = recording.resume(ck, out.trajectory);
     if (!quiet) std::cerr << "pillars: resumed from " << out.checkpoint << " at step " << sys.current_step() << "\n";
   } else {
-    flow.equilibrate_and_carve(par.equilibrate_steps, par.check_every);
-    h5.emplace(out.trajectory, "mesoflow", MESOFLOW_VERSION, "mesoflow pillars");
-    for (const auto& [key, value] : app.resolved_parameters()) h5->set_parameter(key, value);
-    h5->set_parameter("porosity_actual", s.porosity);
-    h5->set_parameter("box_x", g.Lx);
-    h5->set_parameter("box_y", g.Ly);
-    h5->set_parameter("box_z", g.Lz);
+    recording.start(par.equilibrate_steps, par.check_every, out.trajectory, app.resolved_parameters());
   }
   if (!quiet)
     std::cerr << "pillars: " << D << "D, " << sys.particles.size() << " particles (" << flow.solid_particles()
@@ -157,38 +82,8 @@ void run_flow(const Parameters& par, const cli::DriverApp& app) {
 
   const long long total = par.warmup_steps + par.steps, first = flow.steps_after_carving();
   cli::ProgressLine progress(total - first, int(sys.particles.size()), !quiet);
-  struct Output {  // what the run hands out, written here
-    pillars::PillarFlow<D>& flow;
-    io::H5mdWriter& h5;
-    const std::string checkpoint_path, signature;
-    cli::ProgressLine& bar;
-    long long first;
-    void sample(const pillars::SampleObservables& o) {
-      const auto& sys = flow.system();
-      const std::int64_t step = std::int64_t(sys.current_step());
-      h5.append_observable("mean_velocity_x", step, sys.time(), o.mean_velocity_x);
-      h5.append_observable("pillar_force_x", step, sys.time(), o.pillar_force_x);
-      h5.append_observable("temperature_fluid", step, sys.time(), o.fluid_temperature);
-    }
-    void final() {
-      const auto& sys = flow.system();
-      const std::int64_t step = std::int64_t(sys.current_step());
-      if (!h5.has_particles_group("all")) driver::add_particles_group(h5, "all", sys.particles.size(), flow.box());
-      driver::write_frame(h5, "all", step, sys.time(), sys.particles);
-      const auto type = driver::to_host_vector(sys.particles.type);
-      h5.append_int("all", "species", step, sys.time(), type.data(), type.size(), 1);
-    }
-    void checkpoint() {
-      h5.flush();
-      io::CheckpointWriter ck(checkpoint_path);
-      ck.put_string("scene", signature);
-      scene::SaveFields save(ck);
-      flow.checkpoint_fields(save);
-      ck.commit();
-    }
-    void progress(long long done) { bar.update(done - first); }
-  } events{flow, *h5, out.checkpoint, scene_signature(app), progress, first};
-  flow.run(par.warmup_steps, par.steps, par.sample_every, par.checkpoint_every, par.check_every, events);
+  recording.run(par.warmup_steps, par.steps, par.sample_every, par.checkpoint_every, par.check_every,
+                [&](long long done) { progress.update(done - first); });
   progress.finish();
   const double wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const auto& rec = flow.record();
@@ -199,13 +94,8 @@ void run_flow(const Parameters& par, const cli::DriverApp& app) {
                              rec.pillar_force, rec.tether, rec.driven, rec.sum_u, rec.sum_u2, rec.sample_u,
                              rec.sample_tether, rec.samples};
   const auto e = pillars::estimate_permeability(m);
-  std::ofstream csv(stem + "_profile.csv");
-  csv << "z,fluid_samples,mean_ux,u_s,pillar_force_density,brinkman_fit\n" << std::setprecision(10);
-  for (int b = 0; b < flow.bins(); ++b)
-    csv << e.z[b] << "," << rec.count[b] << "," << e.mean_ux[b] << "," << e.u_s[b] << "," << e.pillar_force_density[b]
-        << "," << e.brinkman[b] << "\n";
-  csv.close();
-  h5->write_xdmf(out.xdmf);
+  pillars::write_flow_profile(stem + "_profile.csv", e, rec.count);
+  recording.write_xdmf(out.xdmf);
 
   const double d2 = g.diameter * g.diameter;
   const double samples = double(std::max<long long>(rec.samples, 1));
@@ -224,21 +114,15 @@ void run_flow(const Parameters& par, const cli::DriverApp& app) {
               {"kappa_drag_tether", e.kappa_drag_tether}, {"wall_force_bottom", rec.wall_bottom / samples},
               {"wall_force_top", rec.wall_top / samples}};
   if (!g.centres.empty() && s.porosity < 1)
-    j["theory_over_d2"] = {{"gebart_square", pillars::kappa_gebart_square(s.porosity)},
-                           {"drummond_tahir_square", pillars::kappa_drummond_tahir_square(s.porosity)},
-                           {"sangani_acrivos_dense", pillars::kappa_sangani_acrivos_dense(s.porosity)},
-                           {"tsay_weinbaum_fit", pillars::kappa_tsay_weinbaum_fit(s.porosity)}};
+    for (const auto& [name, value] : pillars::square_array_theory(s.porosity)) j["theory_over_d2"][name] = value;
   if (g.walls()) j["kappa_walls_theory"] = pillars::kappa_walls(g.H);
   if (e.fit) {
     const auto& f = *e.fit;
     cli::Json b{{"B", f.B}, {"alpha", f.alpha}, {"rms_residual", f.rms_residual},
                 {"alpha_at_bound", f.alpha_at_lower_bound || f.alpha_at_upper_bound}};
-    if (par.kappa_p > 0) {
-      b["kappa_p"] = par.kappa_p;
-      b["mu_eff_over_mu"] = pillars::mu_eff_ratio(par.kappa_p, f.alpha);
-      b["kappa_eff_eq7"] = pillars::kappa_eff_brinkman(par.kappa_p, f.alpha, g.H);
-      b["B_theory"] = par.kappa_p * e.pressure_difference / (mu * g.Lx);
-    }
+    if (par.kappa_p > 0)
+      for (const auto& [name, value] : pillars::brinkman_theory(par.kappa_p, f.alpha, g.H, e.pressure_difference, mu, g.Lx))
+        b[name] = value;
     j["brinkman"] = b;
   }
   j["components"] = flow.components();
@@ -263,37 +147,20 @@ template <int D>
 void run_viscosity(const Parameters& par, const cli::DriverApp& app) {
   const driver::OutputPaths out(app.output());
   const std::string stem = out.trajectory.substr(0, out.trajectory.size() - 3);
-  const mdpd::MdpdParameters mp = fluid(par, D);
-  const double g_force = par.fb >= 0 ? par.fb : 0.5;
-  pillars::SceneGeometry geometry;
-  geometry.dim = D;
-  geometry.Lx = par.box;
-  geometry.Ly = D == 3 ? par.box : par.lz;
-  geometry.Lz = D == 3 ? par.lz : 0.0;
-  const double Lzz = D == 3 ? geometry.Lz : geometry.Ly;
-  if (par.box < 2.4 || Lzz < 4.8) throw std::invalid_argument("--box must be >= 2.4 and --lz >= 4.8 (σ)");
-  mdpd::MdpdOptions opt;
-  opt.list_kind = par.list == "full" ? NeighborListKind::full : NeighborListKind::half;
-  mdpd::MdpdSystem<D, double, Kokkos::DefaultExecutionSpace> sys(mp, pillars::periodic_box<D>(geometry),
-                                                                 std::uint64_t(par.seed), opt);
-  pillars::fill_fluid(sys, geometry, par.density, std::uint64_t(par.seed));
-  sys.begin();
-  const int bins = std::max(4, int(std::lround(Lzz / par.bin_width)) / 2 * 2);
+  pillars::ViscosityRun<D> run(par);
+  const auto& sys = run.system();
+  const auto& mp = run.fluid();
   cli::ProgressLine progress(par.warmup_steps + par.steps, int(sys.particles.size()), !app.quiet());
-  const auto samples = pillars::run_poiseuille(sys, g_force, par.equilibrate_steps, par.warmup_steps, par.steps,
-                                               par.sample_every, bins, par.check_every,
-                                               [&](long long done) { progress.update(done); });
+  const auto samples = run.run(par.equilibrate_steps, par.warmup_steps, par.steps, par.sample_every, par.check_every,
+                               [&](long long done) { progress.update(done); });
   progress.finish();
   if (samples.samples == 0) throw std::invalid_argument("--steps must cover at least one --sample-every interval");
-  const double volume = D == 3 ? geometry.Lx * geometry.Ly * geometry.Lz : geometry.Lx * geometry.Ly;
-  const double rho = double(sys.particles.size()) / volume;
-  const auto fit = pillars::fit_poiseuille_viscosity(samples.count, samples.velocity, Lzz, rho, g_force,
-                                                     samples.temperature_sum / samples.samples, D);
-  std::ofstream csv(stem + "_profile.csv");
-  csv << "z,mean_ux,fit\n" << std::setprecision(10);
-  for (int b = 0; b < bins; ++b) csv << fit.z[b] << "," << fit.u[b] << "," << fit.fit[b] << "\n";
+  const double rho = run.number_density();
+  const auto fit = pillars::fit_poiseuille_viscosity(samples.count, samples.velocity, run.gradient_length(), rho,
+                                                     run.force(), samples.temperature_sum / samples.samples, D);
+  pillars::write_viscosity_profile(stem + "_profile.csv", fit);
   cli::Json j{{"driver", "pillars"}, {"mode", "viscosity"}, {"dimension", D}, {"A", mp.A}, {"B", mp.B},
-              {"r_B", mp.r_B}, {"R", mp.R}, {"dt", mp.dt}, {"density", rho}, {"force", g_force},
+              {"r_B", mp.r_B}, {"R", mp.R}, {"dt", mp.dt}, {"density", rho}, {"force", run.force()},
               {"viscosity", fit.viscosity}, {"viscosity_error", fit.viscosity_error},
               {"max_velocity", fit.max_velocity}, {"temperature", fit.thermal_temperature},
               {"samples", samples.samples}};
@@ -359,8 +226,7 @@ int main(int argc, char** argv) {
               1, 1000000);
   return app.run(argc, argv, [&] {
     if (par.mode != "theory") {  // flow: tethered solids and WCA cores; viscosity: fluid only
-      const auto limit = mesoflow::pillars::pillar_stability(mesoflow::fluid(par, par.dimension), par.dimension,
-                                                             par.density, par.mode == "flow", par.k_S);
+      const auto limit = mesoflow::pillars::pillar_stability(par, par.dimension, par.mode == "flow");
       mesoflow::cli::check_time_step("pillars", par.dt, {limit.max_dt(), limit.limiting_term("τ")}, par.force_dt);
     }
     mesoflow::KokkosScope kokkos(par.threads);

@@ -28,6 +28,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iomanip>
 #include <iostream>
 #include <memory>
 #include <sstream>
@@ -63,6 +64,26 @@ struct CapsuleRunParameters {
   bool force_dt = false;
   long long check_every = 100;        // steps between NaN-watchdog checks
 };
+
+// The scene of a run at (Ca, η) as a string, kept in its result file: a sweep's --restart reuses
+// only the finished runs whose string matches (the shear runs add their box).
+inline std::string scene_signature(const CapsuleRunParameters& par, double ca, double eta) {
+  std::ostringstream s;
+  s << std::setprecision(10) << par.mode << ";Pi=" << par.resolution << ";Ca=" << ca << ";eta=" << eta
+    << ";Re=" << par.reynolds << ";ht=" << par.thickness << ";level=" << par.level << ";diag=" << par.diagonals
+    << ";h=" << par.support << ";walls=" << par.walls << ";lambda=" << par.viscosity_ratio << ";c0=" << par.c0
+    << ";strain=" << par.membrane_strain << ";delta=" << par.density_variation << ";tmax=" << par.t_max << ";sample=" << par.sample_every
+    << ";stall=" << par.stall_window;
+  if (par.dt > 0) s << ";dt=" << par.dt;
+  return s.str();
+}
+
+// The scene of a shear run at Ca: scene_signature with η = 0 and the box (in d).
+inline std::string shear_signature(const CapsuleRunParameters& par, double ca) {
+  std::ostringstream s;
+  s << scene_signature(par, ca, 0) << ";box=" << par.shear_box_x << "x" << par.shear_box_y << "x" << par.shear_box_z;
+  return s.str();
+}
 
 // The scene's physical parameters (lattice units).
 struct Physical {

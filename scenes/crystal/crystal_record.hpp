@@ -19,6 +19,8 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <fstream>
+#include <iomanip>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -159,6 +161,17 @@ class CrystalRecord {
     }
     a("record/last_folded", last_folded);
     a("record/image_shift", image_shift);
+  }
+
+  // The far-field profile over the measured frames as CSV at `path`: per bin y, the mean u_x
+  // (0 where it has no samples) and the samples.
+  void write_far_profile(const std::string& path) const {
+    std::ofstream csv(path);
+    csv << std::setprecision(10) << "y,u_x,samples\n";
+    for (int b = 0; b < far_.bins; ++b) {
+      const double c = far_count[std::size_t(b)];
+      csv << (b + 0.5) * far_.bin_width << "," << (c > 0 ? far_sum[std::size_t(b)] / c : 0.0) << "," << c << "\n";
+    }
   }
 
   const FarField& far_field() const { return far_; }
