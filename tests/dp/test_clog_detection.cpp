@@ -23,22 +23,22 @@ struct Synthetic {
   KOKKOS_INLINE_FUNCTION void operator()(int b, double (&c)[2], double& ke) const {
     c[1] = 0.5 * b;
     if (b == 0) {
-      ke = e_t * std::exp(-k_decay * t);
-      c[0] = 3.0 - 2 * v_t / k_decay * std::exp(-0.5 * k_decay * t);
+      ke = e_t * kmath::exp(-k_decay * t);
+      c[0] = 3.0 - 2 * v_t / k_decay * kmath::exp(-0.5 * k_decay * t);
     } else if (b == 1) {
       const double v = 2e-4;
       ke = e_t * (v / v_t) * (v / v_t);
       c[0] = v * t;
     } else if (b == 2) {
-      ke = e_t * std::exp(-k_decay * t);
+      ke = e_t * kmath::exp(-k_decay * t);
       c[0] = 1e-4 * t;
     } else if (b == 3) {
       ke = 1e-12 * e_t;
       c[0] = 1.0;
     } else {
       const double k = t < 30 ? k_decay : 0.5 * k_decay;
-      ke = t < 30 ? e_t * std::exp(-k_decay * t) : e_t * std::exp(-k_decay * 30 - k * (t - 30));
-      c[0] = 2.0 - 2 * v_t / k * std::sqrt(ke / e_t);
+      ke = t < 30 ? e_t * kmath::exp(-k_decay * t) : e_t * kmath::exp(-k_decay * 30 - k * (t - 30));
+      c[0] = 2.0 - 2 * v_t / k * kmath::sqrt(ke / e_t);
     }
   }
 };
