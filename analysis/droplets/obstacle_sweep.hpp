@@ -40,6 +40,8 @@ struct FinishedReplica {
   std::uint64_t seed;
   bool clogged;
   double distance, time, final_x, final_y, steady_speed;  // ReplicaRecord's (clog_detection.hpp)
+  int early;  // the early clog test's classification (early_decision in clog_detection.hpp)
+  double early_distance, early_time, early_rate, early_crossing;
 };
 
 // The checkpointed fields of a finished replica, declared once: writing and reading both walk this
@@ -52,6 +54,8 @@ void replica_fields(Replica& r, Visit&& visit) {
   visit.template field<int>("clogged", r.clogged);
   visit.template field<std::int64_t>("seed", r.seed);
   visit.template field<double>("record", r.distance, r.time, r.final_x, r.final_y, r.steady_speed);
+  visit.template field<int>("early", r.early);
+  visit.template field<double>("early_record", r.early_distance, r.early_time, r.early_rate, r.early_crossing);
 }
 
 namespace sweep_detail {
@@ -275,6 +279,8 @@ inline void write_sweep_results(const std::string& path, const std::vector<std::
     std::vector<int> point(n), replica(n), clogged(n);
     std::vector<long long> seed(n);
     std::vector<double> distance(n), time(n), final_position(2 * n), speed(n);
+    std::vector<int> early(n);
+    std::vector<double> early_distance(n), early_time(n), early_rate(n), early_crossing(n);
     for (std::size_t k = 0; k < n; ++k) {
       point[k] = done[k].point;
       replica[k] = done[k].replica;
@@ -285,6 +291,11 @@ inline void write_sweep_results(const std::string& path, const std::vector<std::
       final_position[2 * k] = done[k].final_x;
       final_position[2 * k + 1] = done[k].final_y;
       speed[k] = done[k].steady_speed;
+      early[k] = done[k].early;
+      early_distance[k] = done[k].early_distance;
+      early_time[k] = done[k].early_time;
+      early_rate[k] = done[k].early_rate;
+      early_crossing[k] = done[k].early_crossing;
     }
     write_vector(results.get(), "replicas/point", point);
     write_vector(results.get(), "replicas/replica", replica);
@@ -295,6 +306,11 @@ inline void write_sweep_results(const std::string& path, const std::vector<std::
     io::write_dataset(results.get(), "replicas/final_position", io::native_type<double>(), io::native_type<double>(),
                       {n, 2}, final_position.data());
     write_vector(results.get(), "replicas/steady_speed", speed, "sigma/t0");
+    write_vector(results.get(), "replicas/early_decision", early);
+    write_vector(results.get(), "replicas/early_distance", early_distance, "sigma");
+    write_vector(results.get(), "replicas/early_time", early_time, "t0");
+    write_vector(results.get(), "replicas/early_rate", early_rate, "1/t0");
+    write_vector(results.get(), "replicas/early_crossing", early_crossing, "t0");
     std::vector<double> strength, gap, lambda, lower, upper, total, mean_speed, speed_error;
     std::vector<int> replicas, n_clog, flowing;
     for (std::size_t p = 0; p < points.size(); ++p) {
@@ -349,6 +365,22 @@ inline void write_sweep_csv(const std::string& path, bool sp, const std::vector<
         << (s.flowing > 0 ? sweep_number(s.mean_speed_ratio) : "") << ","
         << (s.flowing > 1 ? sweep_number(s.speed_ratio_error) : "") << "\n";
   }
+}
+
+// One row per finished replica (sorted by point, then replica): both classifications and their
+// (r, t) when the early clog test ran (--clog-test early or both; clog_detection.hpp).
+inline void write_replicas_csv(const std::string& path, bool sp, const std::vector<SweepPoint>& points,
+                               const std::vector<FinishedReplica>& done) {
+  std::ofstream csv(path);
+  csv << (sp ? "wall_energy" : "line_tension")
+      << ",gap,replica,seed,clogged,distance,time,steady_speed,early_decision,early_clogged,early_distance,early_time,"
+         "early_rate,early_crossing\n";
+  for (const FinishedReplica& f : done)
+    csv << sweep_number(points[std::size_t(f.point)].strength) << "," << sweep_number(points[std::size_t(f.point)].gap)
+        << "," << f.replica << "," << f.seed << "," << (f.clogged ? 1 : 0) << "," << sweep_number(f.distance) << ","
+        << sweep_number(f.time) << "," << sweep_number(f.steady_speed) << "," << f.early << ","
+        << (f.early != 0 ? 1 : 0) << "," << sweep_number(f.early_distance) << "," << sweep_number(f.early_time) << ","
+        << sweep_number(f.early_rate) << "," << sweep_number(f.early_crossing) << "\n";
 }
 
 }  // namespace mesoflow::droplets

@@ -21,7 +21,8 @@
 //
 // Output (<out> = --output without its extension): <out>.h5 (H5MD-style: /h5md, /parameters as
 // attributes, /results/replicas, /results/points, /results/survival), <out>.csv (one row per sweep
-// point), <out>.json (run summary), <out>.ckpt.h5 (finished replicas, replaced atomically as they
+// point), <out>.replicas.csv (one row per replica: both classifications of --clog-test both),
+// <out>.json (run summary), <out>.ckpt.h5 (finished replicas, replaced atomically as they
 // finish; --restart resumes a killed sweep from it without recomputing them).
 //
 // Under mpirun/srun (docs/scale-out.md) the sweep's work items, (point, replica) pairs in
@@ -53,6 +54,7 @@ struct Parameters {
   std::string line_tension = "1.09";   // Γ list (DP)
   std::string sp_wall_energy = "10";   // E_w list (SP)
   std::string gap = "0.2";             // w_ob list
+  std::string clog_test = "full";      // full, early or both (scenes/droplets/clog_detection.hpp)
   int replicas = 16;
   double confidence = 0.95;
   ObstacleSweep sweep;                 // the scene of every point but (strength, w_ob)
@@ -141,7 +143,8 @@ void run(const Parameters& par, const cli::DriverApp& app, const std::vector<Swe
                     << batch.back() << "\n";
       },
       [&](std::size_t p, int replica, std::uint64_t seed, const ReplicaRecord& r) {
-        fresh.push_back({int(p), replica, seed, r.clogged, r.distance, r.time, r.final_x, r.final_y, r.steady_speed});
+        fresh.push_back({int(p), replica, seed, r.clogged, r.distance, r.time, r.final_x, r.final_y, r.steady_speed,
+                         r.early, r.early_distance, r.early_time, r.early_rate, r.early_crossing});
         if (ranks.size() == 1) {
           done.push_back(fresh.back());
           write_replica_checkpoint(out.checkpoint, parameters, done);
@@ -176,6 +179,8 @@ void run(const Parameters& par, const cli::DriverApp& app, const std::vector<Swe
     if (key != "restart" && key != "threads") attributes.emplace_back(key, value);
   write_sweep_results(out.trajectory, attributes, sp, points, done, summaries, MESOFLOW_VERSION);
   write_sweep_csv(out.csv, sp, points, summaries);
+  const std::string replicas_csv = out.csv.substr(0, out.csv.size() - 4) + ".replicas.csv";
+  write_replicas_csv(replicas_csv, sp, points, done);
   cli::Json json;
   json["driver"] = "obstacles";
   json["model"] = par.model;
@@ -186,6 +191,21 @@ void run(const Parameters& par, const cli::DriverApp& app, const std::vector<Swe
   json["replicas_computed"] = computed;
   json["steps_run"] = steps_run;
   json["wall_seconds"] = cli::summary_number(wall);
+  json["clog_test"] = par.clog_test;
+  {  // simulated time of the replicas: to their record (the test that ended them), and to the early decision
+    double recorded = 0, early = 0;
+    int disagree = 0;
+    for (const FinishedReplica& f : done) {
+      recorded += f.time;
+      early += f.early_time;
+      disagree += (f.early != 0) != f.clogged ? 1 : 0;
+    }
+    json["replica_time_recorded"] = cli::summary_number(recorded);
+    if (par.clog_test != "full") {
+      json["replica_time_early"] = cli::summary_number(early);
+      json["classification_disagreements"] = disagree;
+    }
+  }
   json["vertex_steps_per_second"] = cli::summary_number(wall > 0 ? double(vertex_steps) / wall : 0.0);
   json["decay_length"] = cli::Json::array();
   for (const PointSummary& s : summaries) json["decay_length"].push_back(cli::summary_number(s.lambda.lambda));
@@ -226,6 +246,20 @@ int main(int argc, char** argv) {
   app.add_positive("--time-limit", par.sweep.time_limit, "run time T/t0 of a replica that does not clog");
   app.add_real("--clog-threshold", par.sweep.clog_threshold, "clog when E_k/E_t falls below this (App. C)", 0.0, 1.0,
                Bounds::open);
+  app.add_choice("--clog-test", par.clog_test,
+                 "what ends a replica: full (E_k/E_t below --clog-threshold), early (that or the early clog test), "
+                 "both (the threshold; the early decision recorded beside it, for validation)",
+                 {"full", "early", "both"});
+  app.add_real("--clog-sample-interval", par.sweep.early.sample_interval,
+               "early clog test: time between samples Δt_s/t0", 1e-3, 100.0);
+  app.add_real("--clog-window", par.sweep.early.window,
+               "early clog test: fit window τ_w/t0 (4 to 4096 samples)", 0.0, 1e5, Bounds::left_open);
+  app.add_real("--clog-tolerance", par.sweep.early.tolerance,
+               "early clog test: largest displacement in the window and travel left, σ", 1e-9, 1.0);
+  app.add_real("--clog-max-scatter", par.sweep.early.max_scatter,
+               "early clog test: largest rms residual of the ln(E_k/E_t) fit", 0.0, 10.0, Bounds::left_open);
+  app.add_real("--clog-min-rate", par.sweep.early.min_rate, "early clog test: smallest decay rate of E_k, 1/t0", 0.0,
+               100.0, Bounds::left_open);
   app.add_real("--confidence", par.confidence, "confidence level of the interval on λ", 0.0, 1.0, Bounds::open);
   app.add_int("--vertices", par.sweep.vertices, "DP: vertices N_v per droplet", 8, 4096);
   app.add_real("--area-stiffness", par.sweep.area_stiffness, "DP: area stiffness K_a", 0.0, 1e8);
@@ -242,6 +276,7 @@ int main(int argc, char** argv) {
   app.add_flag("--restart", par.restart, "resume a killed sweep from <output>.ckpt.h5 (the same parameters)");
   return ranks.finish(app.run(argc, argv, [&] {
     par.sweep.soft_particles = par.model == "sp";
+    par.sweep.clog_test = mesoflow::droplets::clog_test_from_name(par.clog_test);
     const auto strengths = par.sweep.soft_particles
                                ? mesoflow::droplets::parse_list("--sp-wall-energy", par.sp_wall_energy, 0.001, 1e4)
                                : mesoflow::droplets::parse_list("--line-tension", par.line_tension, 0.001, 100.0);

@@ -11,6 +11,23 @@
 // tracker accumulates the sums of that fit over the samples in the second half of the run
 // (t ≥ T/2), relative to t = T/2 for precision, while the replica is running.
 //
+// Early clog test (issue 25): E_k/E_t < 10⁻¹⁷ stays the definition, but at K_l/Γ ≤ 10⁻² the last
+// decades of an arrest's exponential decay take 10²–10³ t0. Every Δt_s (sample_interval) each
+// replica stores (t, ln E_k/E_t, x_com, y_com) in a device ring buffer of W = window/Δt_s samples;
+// with the buffer full, a replica is declared clogged early when, over the window,
+//   (1) its centre of mass stayed within `tolerance` of where it is now;
+//   (2) ln(E_k/E_t) decays as an exponential: the least-squares slopes over the whole window and
+//       over each half are all < −min_rate and the residual scatter (rms) of the whole-window fit is
+//       below max_scatter (natural-log units);
+//   (3) the travel left under that decay is below `tolerance`: |v_com| ≤ √(2E_k/M) = v_t √(E_k/E_t)
+//       and E_k ∝ e^{−k t} with k the smallest of the three fitted rates, so the centre of mass can
+//       still move at most 2 v_t √(E_k/E_t)/k.
+// The record then keeps r, t and the centre of mass at the decision, the rate k and the
+// extrapolated time at which E_k/E_t would cross the threshold. ClogTest picks what ends a replica:
+// `full` the threshold only; `early` the threshold or the early test, whichever first; `both`
+// (validation) the threshold only, with the early decision recorded on the side, so one run gives
+// both classifications and both (r, t) pairs of every replica.
+//
 // All state lives in Views and observe() is one kernel over the replicas, so nothing crosses to the
 // host during a run except the count of running replicas, when asked for.
 #pragma once
@@ -20,12 +37,53 @@
 
 #include <Kokkos_Core.hpp>
 
+#include <cmath>
 #include <cstdint>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 namespace mesoflow::droplets {
+
+// Which test ends a replica (see the header comment).
+enum class ClogTest { full, early, both };
+
+inline ClogTest clog_test_from_name(const std::string& name) {
+  if (name == "full") return ClogTest::full;
+  if (name == "early") return ClogTest::early;
+  if (name == "both") return ClogTest::both;
+  throw std::invalid_argument("--clog-test: '" + name + "' is not one of full, early, both");
+}
+
+// Parameters of the early clog test (lengths σ, times t0).
+struct EarlyClogParameters {
+  double sample_interval = 0.5;  // Δt_s between ring-buffer samples
+  double window = 20;            // τ_w, the span of the fit (W = round(τ_w/Δt_s) samples, 4..4096)
+  double tolerance = 1e-3;       // on the displacement within the window and on the travel left
+  double max_scatter = 0.5;      // rms residual of the ln(E_k/E_t) fit
+  double min_rate = 1e-3;        // smallest decay rate k of E_k accepted, 1/t0
+
+  int samples() const { return int(std::lround(window / sample_interval)); }
+  // Throws std::invalid_argument naming the CLI flag and its range.
+  void validate() const {
+    const auto bad = [](const std::string& flag, double v, const std::string& range) {
+      throw std::invalid_argument(flag + ": " + std::to_string(v) + " is out of range; expected " + range);
+    };
+    if (!(sample_interval >= 1e-3 && sample_interval <= 100)) bad("--clog-sample-interval", sample_interval, "[0.001, 100]");
+    if (!(window > 0) || !(samples() >= 4 && samples() <= 4096))
+      bad("--clog-window", window, "a window of 4..4096 samples of --clog-sample-interval");
+    if (!(tolerance >= 1e-9 && tolerance <= 1)) bad("--clog-tolerance", tolerance, "[1e-09, 1]");
+    if (!(max_scatter > 0 && max_scatter <= 10)) bad("--clog-max-scatter", max_scatter, "(0, 10]");
+    if (!(min_rate > 0 && min_rate <= 100)) bad("--clog-min-rate", min_rate, "(0, 100]");
+  }
+};
+
+// How the early test classified a replica.
+namespace early_decision {
+constexpr int none = 0;       // not clogged (censored at T)
+constexpr int test = 1;       // clogged by the early test
+constexpr int threshold = 2;  // clogged: E_k/E_t crossed the threshold before the early test decided
+}  // namespace early_decision
 
 // What happened to one replica; on the host.
 struct ReplicaRecord {
@@ -34,6 +92,11 @@ struct ReplicaRecord {
   double time = 0;       // t/t0 at the clog or the time limit
   double final_x = 0, final_y = 0;  // centre of mass at the end (unfolded), σ
   double steady_speed = 0;  // slope of r(t) over [T/2, T] in σ/t0; 0 if it clogged or had < 2 samples
+  // The early test (ClogTest early or both; none under full): its classification, r and t at its
+  // decision, the rate k of E_k and the extrapolated time E_k/E_t crosses the threshold (t0).
+  int early = early_decision::none;
+  double early_distance = 0, early_time = 0, early_rate = 0, early_crossing = 0;
+  bool early_clogged() const { return early != early_decision::none; }
 };
 
 // Replica states: running, clogged, or censored (reached the time limit still moving).
@@ -43,25 +106,63 @@ constexpr int clogged = 1;
 constexpr int censored = 2;
 }  // namespace replica_status
 
+namespace clog_detail {
+// Least-squares slope of y(s) over samples [first, first + n) of the window (oldest first) of
+// replica b in the ring `ring` (columns t, ln E, x, y) with `count` samples written so far; the
+// residual rms through `rms` when non-null.
+template <class Ring>
+KOKKOS_INLINE_FUNCTION double window_slope(const Ring& ring, int b, int count, int first, int n, double t0, double* rms) {
+  const int w = int(ring.extent(1));
+  double ss = 0, sy = 0, sss = 0, ssy = 0, syy = 0;
+  for (int i = first; i < first + n; ++i) {
+    const int slot = (count - w + i) % w;
+    const double s = ring(b, slot, 0) - t0, y = ring(b, slot, 1);
+    ss += s;
+    sy += y;
+    sss += s * s;
+    ssy += s * y;
+    syy += y * y;
+  }
+  const double sxx = sss - ss * ss / n, sxy = ssy - ss * sy / n, yy = syy - sy * sy / n;
+  const double slope = sxx > 0 ? sxy / sxx : 0.0;
+  if (rms) {
+    const double res = yy - slope * sxy;
+    *rms = kmath::sqrt((res > 0 ? res : 0.0) / n);
+  }
+  return slope;
+}
+}  // namespace clog_detail
+
 template <class ExecSpace = Kokkos::DefaultExecutionSpace>
 class ClogDetector {
  public:
   using scalar_view = Kokkos::View<double*, ExecSpace>;
 
-  // `terminal_energy` E_t = ½ M v_t²; `threshold` on E_k/E_t; `time_limit` T; `gravity` ĝ (unit).
-  ClogDetector(int replicas, double terminal_energy, double threshold, double time_limit, const Vec<2, double>& gravity)
+  // `terminal_energy` E_t = ½ M v_t² at `terminal_speed` v_t; `threshold` on E_k/E_t; `time_limit`
+  // T; `gravity` ĝ (unit); `test` and `early` the early clog test (ignored under ClogTest::full).
+  ClogDetector(int replicas, double terminal_energy, double threshold, double time_limit, const Vec<2, double>& gravity,
+               ClogTest test = ClogTest::full, const EarlyClogParameters& early = {}, double terminal_speed = 1.0)
       : status_("mesoflow::clog_detection::status", replicas),
         origin_("mesoflow::clog_detection::origin", replicas),
         end_("mesoflow::clog_detection::end", replicas),
         fit_("mesoflow::clog_detection::fit", replicas),
+        decision_("mesoflow::clog_detection::decision", replicas),
+        early_record_("mesoflow::clog_detection::early_record", replicas),
+        ring_("mesoflow::clog_detection::ring", test == ClogTest::full ? 0 : replicas,
+              test == ClogTest::full ? 1 : early.samples()),
         terminal_energy_(terminal_energy),
         threshold_(threshold),
         time_limit_(time_limit),
-        gravity_(gravity) {
+        gravity_(gravity),
+        test_(test),
+        early_(early),
+        terminal_speed_(terminal_speed) {
     if (replicas < 1) throw std::invalid_argument("clog detection: no replicas");
     if (!(terminal_energy > 0)) throw std::invalid_argument("clog detection: E_t must be > 0");
     if (!(threshold > 0 && threshold < 1)) throw std::invalid_argument("clog detection: threshold must be in (0, 1)");
     if (!(time_limit > 0)) throw std::invalid_argument("clog detection: time limit must be > 0");
+    if (!(terminal_speed > 0)) throw std::invalid_argument("clog detection: v_t must be > 0");
+    early.validate();
   }
 
   // Records the starting centres of mass: state(b, com, ke) fills com[2] and E_k of replica b.
@@ -75,18 +176,34 @@ class ClogDetector {
           origin(b, 0) = com[0];
           origin(b, 1) = com[1];
         });
+    next_sample_ = early_.sample_interval;
+    samples_ = 0;
   }
 
   // Checks every running replica at time t: clogged if E_k/E_t < threshold, else censored if
-  // `at_limit` (the run has reached T: the clog test comes first).
+  // `at_limit` (the run has reached T: the clog test comes first). Under ClogTest early/both, a
+  // sample enters the ring buffers once every sample_interval and the early test runs on it.
   template <class ReplicaState>
   void observe(double t, bool at_limit, const ReplicaState& state) {
     const auto status = status_;
     const auto origin = origin_;
     const auto end = end_;
     const auto fit = fit_;
+    const auto decision = decision_;
+    const auto early_record = early_record_;
+    const auto ring = ring_;
     const double e_clog = threshold_ * terminal_energy_, half = 0.5 * time_limit_;
+    const double e_t = terminal_energy_, ln_threshold = std::log(threshold_), v_t = terminal_speed_;
     const double gx = gravity_[0], gy = gravity_[1];
+    const bool testing = test_ != ClogTest::full;
+    const bool early_ends = test_ == ClogTest::early;
+    const bool sample = testing && t + 1e-9 >= next_sample_;
+    if (sample) {
+      next_sample_ += early_.sample_interval;
+      ++samples_;
+    }
+    const int count = samples_, w = testing ? int(ring_.extent(1)) : 1;
+    const double tolerance = early_.tolerance, max_scatter = early_.max_scatter, min_rate = early_.min_rate;
     Kokkos::parallel_for(
         "mesoflow::clog_detection::observe", Kokkos::RangePolicy<ExecSpace>(0, replicas()), KOKKOS_LAMBDA(int b) {
           if (status(b) != replica_status::running) return;
@@ -102,8 +219,57 @@ class ClogDetector {
             fit(b, 4) += s * r;
           }
           const bool clogged = ke < e_clog;
-          if (clogged || at_limit) {
-            status(b) = clogged ? replica_status::clogged : replica_status::censored;
+          bool early_now = false;
+          if (sample && decision(b) == early_decision::none && !clogged) {
+            const double ratio = ke / e_t;
+            const double ln_e = kmath::log(ratio > 1e-300 ? ratio : 1e-300);
+            const int slot = (count - 1) % w;
+            ring(b, slot, 0) = t;
+            ring(b, slot, 1) = ln_e;
+            ring(b, slot, 2) = com[0];
+            ring(b, slot, 3) = com[1];
+            if (count >= w) {
+              // (1) the centre of mass stayed within the tolerance of where it is now
+              double moved = 0;
+              for (int i = 0; i < w; ++i) {
+                const double dx = ring(b, i, 2) - com[0], dy = ring(b, i, 3) - com[1];
+                const double d2 = dx * dx + dy * dy;
+                moved = d2 > moved ? d2 : moved;
+              }
+              if (moved < tolerance * tolerance) {
+                // (2) exponential decay of E_k over the window and over each half
+                double scatter = 0;
+                const double k_all = -clog_detail::window_slope(ring, b, count, 0, w, t, &scatter);
+                const double k_old = -clog_detail::window_slope(ring, b, count, 0, w / 2, t, nullptr);
+                const double k_new = -clog_detail::window_slope(ring, b, count, w - w / 2, w / 2, t, nullptr);
+                double k = k_all < k_old ? k_all : k_old;
+                k = k < k_new ? k : k_new;
+                // (3) the travel left, ≤ 2 v_t √(E_k/E_t)/k, within the tolerance
+                if (k > min_rate && scatter < max_scatter && 2.0 * v_t * kmath::sqrt(ratio) / k < tolerance) {
+                  early_now = true;
+                  decision(b) = early_decision::test;
+                  early_record(b, 0) = r;
+                  early_record(b, 1) = t;
+                  early_record(b, 2) = k;
+                  early_record(b, 3) = t + (ln_e - ln_threshold) / k;
+                  early_record(b, 4) = com[0];
+                  early_record(b, 5) = com[1];
+                }
+              }
+            }
+          }
+          if (clogged && testing && decision(b) == early_decision::none) {
+            decision(b) = early_decision::threshold;
+            early_record(b, 0) = r;
+            early_record(b, 1) = t;
+            early_record(b, 2) = 0;
+            early_record(b, 3) = t;
+            early_record(b, 4) = com[0];
+            early_record(b, 5) = com[1];
+          }
+          const bool ends_clogged = clogged || (early_ends && early_now);
+          if (ends_clogged || at_limit) {
+            status(b) = ends_clogged ? replica_status::clogged : replica_status::censored;
             end(b, 0) = r;
             end(b, 1) = t;
             end(b, 2) = com[0];
@@ -131,6 +297,8 @@ class ClogDetector {
     const auto status = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), status_);
     const auto end = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), end_);
     const auto fit = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), fit_);
+    const auto decision = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), decision_);
+    const auto early = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), early_record_);
     if (status(b) == replica_status::running)
       throw std::logic_error("clog detection: replica " + std::to_string(b) + " is still running");
     ReplicaRecord out;
@@ -142,18 +310,37 @@ class ClogDetector {
     const double n = fit(b, 0), denominator = n * fit(b, 3) - fit(b, 1) * fit(b, 1);
     if (!out.clogged && n >= 2 && denominator > 0)
       out.steady_speed = (n * fit(b, 4) - fit(b, 1) * fit(b, 2)) / denominator;
+    out.early = decision(b);
+    if (out.early != early_decision::none) {
+      out.early_distance = early(b, 0);
+      out.early_time = early(b, 1);
+      out.early_rate = early(b, 2);
+      out.early_crossing = early(b, 3);
+    } else {  // censored: the early test agrees with the end of the run
+      out.early_distance = out.distance;
+      out.early_time = out.time;
+    }
     return out;
   }
 
   int replicas() const { return int(status_.extent(0)); }
+  ClogTest test() const { return test_; }
 
  private:
   Kokkos::View<int*, ExecSpace> status_;
   Kokkos::View<double* [2], ExecSpace> origin_;
   Kokkos::View<double* [4], ExecSpace> end_;  // r, t, x_com, y_com at the end
   Kokkos::View<double* [5], ExecSpace> fit_;  // least-squares sums (see observe)
+  Kokkos::View<int*, ExecSpace> decision_;    // early_decision of each replica
+  Kokkos::View<double* [6], ExecSpace> early_record_;  // r, t, k, crossing time, x_com, y_com at the early decision
+  Kokkos::View<double** [4], ExecSpace> ring_;  // (replica, slot): t, ln(E_k/E_t), x_com, y_com
   double terminal_energy_, threshold_, time_limit_;
   Vec<2, double> gravity_;
+  ClogTest test_;
+  EarlyClogParameters early_;
+  double terminal_speed_;
+  double next_sample_ = 0;
+  int samples_ = 0;
 };
 
 }  // namespace mesoflow::droplets

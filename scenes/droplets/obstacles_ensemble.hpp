@@ -46,6 +46,8 @@ struct ObstacleEnsembleParameters {
   double gap = 0.2;               // w_ob/σ, the minimum surface-to-surface gap of the array
   double time_limit = 200.0;      // T/t0
   double clog_threshold = 1e-17;  // on E_k/E_t (App. C)
+  ClogTest clog_test = ClogTest::full;  // what ends a replica (clog_detection.hpp)
+  EarlyClogParameters early;      // the early clog test
   int relax_iterations = 20000;   // FIRE iterations of the initial relaxation
 
   double terminal_speed() const {
@@ -117,7 +119,8 @@ void run_until_finished(const ObstacleEnsembleParameters& par, Scene& scene, int
   const double angle = par.gravity_angle() * dp::pi / 180.0;
   const double terminal_energy = 0.5 * droplet_mass * par.terminal_speed() * par.terminal_speed();
   ClogDetector<typename Scene::particles_type::execution_space> detector(
-      replicas, terminal_energy, par.clog_threshold, par.time_limit, Vec<2, double>{{std::cos(angle), std::sin(angle)}});
+      replicas, terminal_energy, par.clog_threshold, par.time_limit, Vec<2, double>{{std::cos(angle), std::sin(angle)}},
+      par.clog_test, par.early, par.terminal_speed());
   detector.start(state_of());
   const long long limit_steps =
       (static_cast<long long>(std::ceil(par.time_limit / scene.dt() - 1e-9)) + sample_steps - 1) / sample_steps *
@@ -244,6 +247,8 @@ struct ObstacleSweep {
   double obstacle_fraction = 0;
   double time_limit = 200.0;
   double clog_threshold = 1e-17;
+  ClogTest clog_test = ClogTest::full;
+  EarlyClogParameters early;
   int relax_iterations = 20000;
   int batch = 16;                // replicas advanced together
 
@@ -270,6 +275,8 @@ struct ObstacleSweep {
     ens.gap = gap;
     ens.time_limit = time_limit;
     ens.clog_threshold = clog_threshold;
+    ens.clog_test = clog_test;
+    ens.early = early;
     ens.relax_iterations = relax_iterations;
     return ens;
   }
@@ -278,6 +285,7 @@ struct ObstacleSweep {
   // limit (std::invalid_argument naming the parameter); returns the point's time step.
   double check(double strength, double gap) const {
     check_box(gap);
+    early.validate();
     const ObstacleEnsembleParameters ens = at(strength, gap);
     ens.droplet.validate();
     ens.soft.validate();

@@ -130,6 +130,41 @@ TEST(ObstacleEnsemble, StiffDeformablePolygonClogsInTightGaps) {
   EXPECT_EQ(decay_length(outcomes).clogged, 4);
 }
 
+// The early clog test (clog_detection.hpp) against the threshold on SP replicas (E_w = 1, slow
+// arrests, rates 0.2–1/t0): under ClogTest::both every replica gets the same classification from
+// both tests and, when clogged, r at the early decision within the tolerance of r at the threshold;
+// under ClogTest::early the replicas stop at those decisions with bitwise the same records.
+TEST(ObstacleEnsemble, EarlyClogTestAgreesWithTheThresholdOnSoftReplicas) {
+  const std::vector<std::uint64_t> seeds = {replica_seed(5, 0), replica_seed(5, 1), replica_seed(5, 2), replica_seed(5, 3),
+                                            replica_seed(5, 4), replica_seed(5, 5)};
+  auto par = small_sp(1.0);
+  par.time_limit = 300;
+  par.clog_test = ClogTest::both;
+  const auto both = run(par, seeds);
+  int by_test = 0;
+  for (std::size_t k = 0; k < seeds.size(); ++k) {
+    const ReplicaRecord& r = both[k];
+    EXPECT_EQ(r.early_clogged(), r.clogged) << "replica " << k << " early t = " << r.early_time << ", end t = " << r.time;
+    if (r.clogged) {
+      EXPECT_LT(std::abs(r.early_distance - r.distance), par.early.tolerance) << "replica " << k;
+    }
+    if (r.early == early_decision::test) {
+      ++by_test;
+      EXPECT_LT(r.early_time, r.time);
+    }
+    std::cout << "[ measured ] replica " << k << ": clogged " << r.clogged << " at t = " << r.time << ", early "
+              << r.early << " at t = " << r.early_time << ", |dr| = " << std::abs(r.early_distance - r.distance) << "\n";
+  }
+  EXPECT_GE(by_test, 2);  // the early test decided, not only the threshold
+  par.clog_test = ClogTest::early;
+  const auto early = run(par, seeds);
+  for (std::size_t k = 0; k < seeds.size(); ++k) {
+    EXPECT_EQ(early[k].clogged, both[k].early_clogged());
+    EXPECT_TRUE(same_bits(early[k].distance, both[k].early_distance)) << "replica " << k;
+    EXPECT_TRUE(same_bits(early[k].time, both[k].early_time)) << "replica " << k;
+  }
+}
+
 // With w_ob = 3σ no pair of obstacles can hold a droplet of diameter σ: every replica is censored
 // and moves on at a good fraction of v_t.
 TEST(ObstacleEnsemble, DeformablePolygonNeverClogsInWideGaps) {

@@ -35,5 +35,6 @@ status=0
 [ "$computed" -eq $((total - before)) ] || { echo "FAIL: computed $computed replicas after the restart, expected $((total - before))" >&2; status=1; }
 "$compare" "$dir/straight/run.h5" "$dir/killed/run.h5" /results || { echo "FAIL: results differ" >&2; status=1; }
 cmp "$dir/straight/run.csv" "$dir/killed/run.csv" || { echo "FAIL: summary tables differ" >&2; status=1; }
+cmp "$dir/straight/run.replicas.csv" "$dir/killed/run.replicas.csv" || { echo "FAIL: replica tables differ" >&2; status=1; }
 [ $status -eq 0 ] && echo "resumed sweep recomputed $computed of $total replicas and matches the uninterrupted sweep"
 exit $status
