@@ -383,4 +383,31 @@ inline void write_replicas_csv(const std::string& path, bool sp, const std::vect
         << sweep_number(f.early_rate) << "," << sweep_number(f.early_crossing) << "\n";
 }
 
+// Simulated time of the finished replicas up to their records (the test that ended them) and up
+// to the early decision (--clog-test early/both), and the replicas the two tests classify
+// differently.
+struct ClogTestTotals {
+  double recorded = 0, early = 0;
+  int disagreements = 0;
+};
+inline ClogTestTotals clog_test_totals(const std::vector<FinishedReplica>& done) {
+  ClogTestTotals t;
+  for (const FinishedReplica& f : done) {
+    t.recorded += f.time;
+    t.early += f.early_time;
+    t.disagreements += (f.early != 0) != f.clogged ? 1 : 0;
+  }
+  return t;
+}
+
+// One line of the driver's report for a sweep point: N_s, N_clog, λ with its interval, ⟨v_g⟩/v_t.
+inline std::string point_line(bool sp, const SweepPoint& point, const PointSummary& s) {
+  std::ostringstream out;
+  out << (sp ? "E_w = " : "Gamma = ") << point.strength << ", w_ob = " << point.gap << ": N_s = " << s.replicas
+      << ", N_clog = " << s.clogged << ", lambda = " << sweep_number(s.lambda.lambda) << " ["
+      << sweep_number(s.lambda.lower) << ", " << sweep_number(s.lambda.upper) << "] sigma"
+      << (s.flowing > 0 ? ", <v_g>/v_t = " + sweep_number(s.mean_speed_ratio) : "");
+  return out.str();
+}
+
 }  // namespace mesoflow::droplets

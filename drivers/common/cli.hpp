@@ -9,6 +9,7 @@
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <functional>
 #include <iostream>
@@ -203,5 +204,27 @@ inline CLI::Validator number_list_check(const std::string& flag, double lo, doub
       },
       "LIST");
 }
+
+// A comma-separated list of finite reals in the closed range [lo, hi] (std::from_chars: no locale);
+// the error names the flag, the item and the range.
+inline std::vector<double> parse_real_list(const std::string& flag, const std::string& text, double lo, double hi) {
+  std::vector<double> values;
+  std::stringstream in(text);
+  std::string item;
+  const std::string range = "comma-separated reals in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]";
+  while (std::getline(in, item, ',')) {
+    item.erase(0, item.find_first_not_of(' '));
+    item.erase(item.find_last_not_of(' ') + 1);
+    double v = 0;
+    const auto [end, error] = std::from_chars(item.data(), item.data() + item.size(), v);
+    if (item.empty() || error != std::errc() || end != item.data() + item.size() || !std::isfinite(v) || v < lo ||
+        v > hi)
+      throw std::invalid_argument(flag + ": value '" + item + "' in '" + text + "' is not allowed; expected " + range);
+    values.push_back(v);
+  }
+  if (values.empty()) throw std::invalid_argument(flag + ": empty list; expected " + range);
+  return values;
+}
+
 
 }  // namespace mesoflow::cli

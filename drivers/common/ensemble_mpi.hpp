@@ -17,6 +17,7 @@
 #include <stdexcept>
 #include <string>
 #include <type_traits>
+#include <utility>
 #include <vector>
 
 namespace mesoflow::ensemble {
@@ -64,6 +65,20 @@ class Ranks {
 // The items this rank runs out of `items` work items in their fixed order: item i goes to rank
 // i mod size (round robin, so every rank gets a share of every sweep point of a point-major list).
 std::vector<std::size_t> shard(std::size_t items, int rank, int size);
+
+// This rank's share of the unfinished items of a (point, replica) sweep: the pairs for which
+// is_done(point, replica) is false, listed point-major, dealt by shard(); by point, replica indices.
+template <class IsDone>
+std::vector<std::vector<int>> pending_shard(std::size_t points, int replicas, const Ranks& ranks, IsDone&& is_done) {
+  std::vector<std::pair<int, int>> pending;
+  for (std::size_t p = 0; p < points; ++p)
+    for (int j = 0; j < replicas; ++j)
+      if (!is_done(p, j)) pending.emplace_back(int(p), j);
+  std::vector<std::vector<int>> todo(points);
+  for (const std::size_t i : shard(pending.size(), ranks.rank(), ranks.size()))
+    todo[std::size_t(pending[i].first)].push_back(pending[i].second);
+  return todo;
+}
 
 // Byte strings of trivially copyable records (all ranks run the same build on one architecture).
 template <class T>

@@ -40,11 +40,10 @@
 #include "analysis/droplets/obstacle_sweep.hpp"
 #include "scenes/droplets/obstacles_ensemble.hpp"
 
-#include <charconv>
+#include <algorithm>
 #include <chrono>
 #include <iostream>
 #include <optional>
-#include <sstream>
 
 namespace mesoflow::droplets {
 namespace {
@@ -62,26 +61,6 @@ struct Parameters {
   int threads = 0;
   bool restart = false;
 };
-
-// A comma-separated list of finite reals in [lo, hi]; the error names the flag and the range.
-std::vector<double> parse_list(const std::string& flag, const std::string& text, double lo, double hi) {
-  std::vector<double> values;
-  std::stringstream in(text);
-  std::string item;
-  const std::string range = "comma-separated reals in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]";
-  while (std::getline(in, item, ',')) {
-    item.erase(0, item.find_first_not_of(' '));
-    item.erase(item.find_last_not_of(' ') + 1);
-    double v = 0;
-    const auto [end, error] = std::from_chars(item.data(), item.data() + item.size(), v);
-    if (item.empty() || error != std::errc() || end != item.data() + item.size() || !std::isfinite(v) || v < lo ||
-        v > hi)
-      throw std::invalid_argument(flag + ": value '" + item + "' in '" + text + "' is not allowed; expected " + range);
-    values.push_back(v);
-  }
-  if (values.empty()) throw std::invalid_argument(flag + ": empty list; expected " + range);
-  return values;
-}
 
 std::string fingerprint(const cli::DriverApp& app) {
   std::string out;
@@ -113,20 +92,11 @@ void run(const Parameters& par, const cli::DriverApp& app, const std::vector<Swe
   ranks.barrier();
 
   // This rank's share of the unfinished (point, replica) items, by point.
-  std::vector<std::vector<int>> todo(points.size());
+  const auto todo = ensemble::pending_shard(points.size(), par.replicas, ranks, [&](std::size_t p, int j) {
+    return std::any_of(done.begin(), done.end(), [&](const FinishedReplica& f) { return f.point == int(p) && f.replica == j; });
+  });
   std::vector<std::pair<double, double>> at;
-  {
-    std::vector<std::pair<int, int>> pending;
-    for (std::size_t p = 0; p < points.size(); ++p) {
-      at.emplace_back(points[p].strength, points[p].gap);
-      for (int j = 0; j < par.replicas; ++j)
-        if (std::none_of(done.begin(), done.end(),
-                         [&](const FinishedReplica& f) { return f.point == int(p) && f.replica == j; }))
-          pending.emplace_back(int(p), j);
-    }
-    for (const std::size_t i : ensemble::shard(pending.size(), ranks.rank(), ranks.size()))
-      todo[std::size_t(pending[i].first)].push_back(pending[i].second);
-  }
+  for (const SweepPoint& point : points) at.emplace_back(point.strength, point.gap);
   // One rank keeps everything in <out>.ckpt.h5, as without MPI; a rank of several keeps what it
   // finishes in its own file.
   std::vector<FinishedReplica> fresh;
@@ -192,19 +162,11 @@ void run(const Parameters& par, const cli::DriverApp& app, const std::vector<Swe
   json["steps_run"] = steps_run;
   json["wall_seconds"] = cli::summary_number(wall);
   json["clog_test"] = par.clog_test;
-  {  // simulated time of the replicas: to their record (the test that ended them), and to the early decision
-    double recorded = 0, early = 0;
-    int disagree = 0;
-    for (const FinishedReplica& f : done) {
-      recorded += f.time;
-      early += f.early_time;
-      disagree += (f.early != 0) != f.clogged ? 1 : 0;
-    }
-    json["replica_time_recorded"] = cli::summary_number(recorded);
-    if (par.clog_test != "full") {
-      json["replica_time_early"] = cli::summary_number(early);
-      json["classification_disagreements"] = disagree;
-    }
+  const ClogTestTotals totals = clog_test_totals(done);  // simulated time to the record and to the early decision
+  json["replica_time_recorded"] = cli::summary_number(totals.recorded);
+  if (par.clog_test != "full") {
+    json["replica_time_early"] = cli::summary_number(totals.early);
+    json["classification_disagreements"] = totals.disagreements;
   }
   json["vertex_steps_per_second"] = cli::summary_number(wall > 0 ? double(vertex_steps) / wall : 0.0);
   json["decay_length"] = cli::Json::array();
@@ -212,13 +174,7 @@ void run(const Parameters& par, const cli::DriverApp& app, const std::vector<Swe
   json["kokkos"] = kokkos_configuration();
   cli::write_summary(out.summary, json);
   if (!app.quiet())
-    for (std::size_t p = 0; p < points.size(); ++p)
-      std::cout << (sp ? "E_w = " : "Gamma = ") << points[p].strength << ", w_ob = " << points[p].gap
-                << ": N_s = " << summaries[p].replicas << ", N_clog = " << summaries[p].clogged
-                << ", lambda = " << sweep_number(summaries[p].lambda.lambda) << " ["
-                << sweep_number(summaries[p].lambda.lower) << ", " << sweep_number(summaries[p].lambda.upper) << "] sigma"
-                << (summaries[p].flowing > 0 ? ", <v_g>/v_t = " + sweep_number(summaries[p].mean_speed_ratio) : "")
-                << "\n";
+    for (std::size_t p = 0; p < points.size(); ++p) std::cout << point_line(sp, points[p], summaries[p]) << "\n";
 }
 
 }  // namespace
@@ -278,9 +234,9 @@ int main(int argc, char** argv) {
     par.sweep.soft_particles = par.model == "sp";
     par.sweep.clog_test = mesoflow::droplets::clog_test_from_name(par.clog_test);
     const auto strengths = par.sweep.soft_particles
-                               ? mesoflow::droplets::parse_list("--sp-wall-energy", par.sp_wall_energy, 0.001, 1e4)
-                               : mesoflow::droplets::parse_list("--line-tension", par.line_tension, 0.001, 100.0);
-    const auto gaps = mesoflow::droplets::parse_list("--gap", par.gap, 0.01, 10.0);
+                               ? mesoflow::cli::parse_real_list("--sp-wall-energy", par.sp_wall_energy, 0.001, 1e4)
+                               : mesoflow::cli::parse_real_list("--line-tension", par.line_tension, 0.001, 100.0);
+    const auto gaps = mesoflow::cli::parse_real_list("--gap", par.gap, 0.01, 10.0);
     for (const double w : gaps) par.sweep.check_box(w);
     std::vector<mesoflow::droplets::SweepPoint> points;
     for (const double s : strengths)
