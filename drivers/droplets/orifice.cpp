@@ -145,6 +145,7 @@ int main(int argc, char** argv) {
   app.add_real("--wall-energy", d.wall_energy, "wall repulsion E_w (eq. 3)", 0.0, 1e8);
   app.add_real("--vertex-diameter", d.vertex_diameter, "vertex diameter δ/l0 (eq. 3)", 0.0, 10.0, Bounds::left_open);
   app.add_real("--drag-exponent", d.drag_exponent, "near-wall drag exponent α (eq. 6)", 0.0, 10.0, Bounds::left_open);
+  app.add_real("--drag-floor", d.drag_floor, "floor d_min/σ on the wall distance of eq. 6", 0.0, 1.0, Bounds::left_open);
   app.add_real("--dt", d.dt, "time step Δt/t0 (0: min(1e-3, stability limit))", 0.0, 0.01);
   app.add_flag(mesoflow::cli::force_dt_flag, d.force_dt, mesoflow::cli::force_dt_help);
   app.add_real("--start-h", par.scene.start_h, "initial distance of the centre of mass from the orifice h/σ", -1000.0,

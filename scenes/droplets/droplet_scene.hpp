@@ -59,6 +59,9 @@ struct DropletParameters {
   double near_wall_drag = 0.064;  // b0/b∞
   double terminal_speed = 0.08;   // V_t = Mg/(b∞√(σg)), eq. 15
   double drag_exponent = 4.0 / 3.0;  // α, eq. 6
+  // d_min/σ, the floor on the wall distance d_i of eq. 6 (the paper states none; eq. 6 diverges at
+  // contact): ζ_i ≤ b∞/N_v (1 + (b0/b∞)(σ/d_min)^α). Issue 25 item 5 sweeps it.
+  double drag_floor = 0.01;
   double dt = 0;                  // Δt/t0; 0: the paper's 10⁻³, or the stability limit if smaller
   bool drag = true;               // background-fluid drag (eqs. 5–6); off only to check energy conservation
   bool force_dt = false;          // run a dt above the stability limit (a warning instead of an error)
@@ -82,6 +85,8 @@ struct DropletParameters {
     require(std::isfinite(drag_exponent) && drag_exponent > 0, "drag exponent α", "finite and > 0", drag_exponent);
     require(std::isfinite(vertex_diameter) && vertex_diameter > 0, "vertex diameter δ/l0", "finite and > 0",
             vertex_diameter);
+    require(std::isfinite(drag_floor) && drag_floor > 0 && drag_floor <= 1, "near-wall drag floor d_min/σ",
+            "in (0, 1]", drag_floor);
     require(std::isfinite(dt) && dt >= 0, "time step dt", "finite and >= 0 (0: automatic)", dt);
     require(gravity_angle >= -360 && gravity_angle <= 360, "gravity angle", "in [-360, 360] degrees", gravity_angle);
   }
@@ -91,7 +96,6 @@ struct DropletParameters {
 constexpr double droplet_area = dp::pi / 4;  // a0 = πσ²/4
 constexpr double droplet_mass = dp::pi / 4;  // M = ρ a0
 constexpr double paper_dt = 1e-3;            // Δt/t0 of §2.2
-constexpr double drag_distance_floor = 0.01;  // σ; smallest d_i in eq. 6 (near_wall_drag.hpp)
 
 // The explicit stability limit of a droplet with these parameters (kernels/dp/stability.hpp);
 // `with_surfaces`: walls or obstacles are present, so the repulsion and near-wall drag act.
@@ -110,7 +114,7 @@ inline dp::StiffnessInputs droplet_stiffness(const DropletParameters& par, bool 
   s.perimeter_stiffness = par.perimeter_stiffness;
   s.area_stiffness = par.area_stiffness;
   s.bending_stiffness = par.bending_stiffness;
-  const double near = with_surfaces ? par.near_wall_drag * std::pow(1.0 / drag_distance_floor, par.drag_exponent) : 0.0;
+  const double near = with_surfaces ? par.near_wall_drag * std::pow(1.0 / par.drag_floor, par.drag_exponent) : 0.0;
   s.max_drag = par.drag ? b_inf * (1 + near) : 0.0;
   return s;
 }
@@ -437,7 +441,7 @@ class DropletScene {
   }
   dp::NearWallDrag<Real> drag() const {
     return dp::NearWallDrag<Real>(Real(b_inf_), Real(par_.near_wall_drag * b_inf_), Real(1), par_.vertices,
-                                  Real(par_.drag_exponent), Real(drag_distance_floor));
+                                  Real(par_.drag_exponent), Real(par_.drag_floor));
   }
 
   DropletParameters par_;

@@ -188,7 +188,7 @@ TEST_P(DpDragExtremes, SettlesOnAWallBalancingEnergyAgainstTheDragsWork) {
   const double l0 = dp::regular_polygon_edge(droplets::droplet_area, par.vertices);
   droplets::DropletScene<double, Exec> scene(par, wall, {Vec<2, double>{{0.0, 0.5 + 0.5 * l0 + 0.005}}});
   const dp::NearWallDrag<double> drag(scene.far_drag(), par.near_wall_drag * scene.far_drag(), 1.0, par.vertices,
-                                      par.drag_exponent, droplets::drag_distance_floor);
+                                      par.drag_exponent, par.drag_floor);
   const double e0 = scene.total_energy(), mg_sigma = droplets::droplet_mass;
   const int steps = int(std::lround(3.0 * length_factor / scene.dt()));
   double work = 0, power = drag_power_and_lowest_vertex(scene, drag).first, imbalance = 0, area = 0, lowest = HUGE_VAL;
