@@ -10,7 +10,8 @@
 // Γ, K_a, K_l, E_w are the dimensionless coefficients of eqs. 1–3 and 8.
 //
 // Defaults: the paper's clogging scene (σ_ob = 0.3σ, w_ob = 0.2σ, Γ = 1.09, App. C; b0 = 0 as in
-// §4.3/App. E), threshold E_k/E_t = 10⁻¹⁷. The paper uses L = 500σ, T = 2·10⁵ t0 and N_s = 50; the
+// §4.3/App. E), threshold E_k/E_t = 10⁻¹⁷, obstacle area fraction φ = 0.0248 (the paper does not
+// state it; calibrated once to λ = 24σ on this scene, docs/droplets.md). The paper uses L = 500σ, T = 2·10⁵ t0 and N_s = 50; the
 // defaults here (L = 40σ, T = 200 t0, N_s = 16, N_v = 64) run in minutes on two cores. L = 40σ is
 // beyond λ ≈ 24σ of App. C, so a replica rarely revisits its own obstacles before it clogs; with
 // v ≤ v_t = 0.08 a droplet travels at most 16σ in 200 t0, so many replicas at the paper's point are
@@ -198,7 +199,8 @@ int main(int argc, char** argv) {
   app.add_real("--box-length", par.sweep.box_length, "side L/σ of the periodic box", 10.0, 2000.0);
   app.add_real("--obstacle-diameter", par.sweep.obstacle_diameter, "obstacle diameter σ_ob/σ", 0.01, 10.0);
   app.add_real("--obstacle-fraction", par.sweep.obstacle_fraction,
-               "obstacle area fraction φ (0: maximal Poisson-disk arrays, the densest the gap allows)", 0.0, 0.5);
+               "obstacle area fraction φ (default: 0.0248, calibrated on Fig. 13(b); 0: maximal Poisson-disk arrays)",
+               0.0, 0.5);
   app.add_positive("--time-limit", par.sweep.time_limit, "run time T/t0 of a replica that does not clog");
   app.add_real("--clog-threshold", par.sweep.clog_threshold, "clog when E_k/E_t falls below this (App. C)", 0.0, 1.0,
                Bounds::open);

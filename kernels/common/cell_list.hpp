@@ -93,7 +93,7 @@ class CellList {
           for (int d = 0; d < D; ++d) c[d] = grid.coordinate(xi[d], d);
           const int k = grid.index(c);
           cell_of(i) = k;
-          Kokkos::atomic_increment(&counts(k));
+          Kokkos::atomic_add(&counts(k), 1);
         });
     Kokkos::parallel_scan(
         "mesoflow::cell_list::offsets", Kokkos::RangePolicy<ExecSpace>(0, ncell + 1),

@@ -244,7 +244,9 @@ struct ObstacleSweep {
   bool force_dt = false;
   double box_length = 40.0;
   double obstacle_diameter = 0.3;
-  double obstacle_fraction = 0;
+  // φ, calibrated once (issue 25 item 1, scripts/calibrate_obstacle_fraction): λ = 24σ at Fig. 13(b)'s
+  // Γ = 1.09, σ_ob = 0.3σ, w_ob = 0.2σ with N_v = 64, K_l/Γ = 0.1 (docs/droplets.md). 0: maximal arrays.
+  double obstacle_fraction = 0.0248;
   double time_limit = 200.0;
   double clog_threshold = 1e-17;
   ClogTest clog_test = ClogTest::full;
