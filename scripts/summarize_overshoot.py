@@ -46,10 +46,10 @@ summary = {
     "fig3d_max_at": {"drag_floor": best["drag_floor"], "vertex_diameter": best["vertex_diameter"]} if best else None,
     "fig3d_overshooting_settings": [{"drag_floor": r["drag_floor"], "vertex_diameter": r["vertex_diameter"],
                                      "max_vg_over_vt_after": r["max_vg_over_vt_after"]} for r in overshooting],
-    "fig2": [{"drag_floor": r["drag_floor"], "max_vg_over_vt_after": r["max_vg_over_vt_after"]}
-             for r in rows if r["case"] == "fig2"],
-    "fig4": [{"gamma": r["gamma"], "drag_floor": r["drag_floor"], "max_vg_over_vt_after": r["max_vg_over_vt_after"]}
-             for r in rows if r["case"] == "fig4"],
+    "fig2": [{"drag_floor": r["drag_floor"], "vertex_diameter": r["vertex_diameter"],
+              "max_vg_over_vt_after": r["max_vg_over_vt_after"]} for r in rows if r["case"] == "fig2"],
+    "fig4": [{"gamma": r["gamma"], "drag_floor": r["drag_floor"], "vertex_diameter": r["vertex_diameter"],
+              "max_vg_over_vt_after": r["max_vg_over_vt_after"]} for r in rows if r["case"] == "fig4"],
 }
 with open(os.path.join(d, "overshoot.json"), "w") as f:
     json.dump(summary, f, indent=1)
@@ -75,9 +75,14 @@ for case, gamma, col, lab in (("fig2", 0.16, "m", "Fig. 2, Γ = 0.16"), ("fig4",
                  if r["case"] == case and r["gamma"] == gamma and r["vertex_diameter"] == 1.0)
     if pts:
         b.plot([p[0] for p in pts], [p[1] for p in pts], "o-", color=col, label=lab)
+    other = [(r["drag_floor"], r["max_vg_over_vt_after"]) for r in rows
+             if r["case"] == case and r["gamma"] == gamma and r["vertex_diameter"] != 1.0]
+    if other:
+        b.plot([p[0] for p in other], [p[1] for p in other], "s", mfc="none", color=col)
+b.plot([], [], "ks", mfc="none", label="open squares: δ = l0/2")
 b.axhline(1, color="r", lw=1, ls="--")
 b.set_xscale("log")
-b.set_xlabel("near-wall drag floor d_min/σ (δ = l0)")
+b.set_xlabel("near-wall drag floor d_min/σ (lines: δ = l0)")
 b.set_ylabel("max v_g/v_t after the orifice")
 b.legend(fontsize=7)
 fig.tight_layout()
