@@ -240,6 +240,9 @@ int main(int argc, char** argv) {
                                : mesoflow::cli::parse_real_list("--line-tension", par.line_tension, 0.001, 100.0);
     const auto gaps = mesoflow::cli::parse_real_list("--gap", par.gap, 0.01, 10.0);
     for (const double w : gaps) par.sweep.check_box(w);
+    if (par.sweep.may_revisit_own_path())
+      std::cerr << "warning: v_t T = " << par.sweep.terminal_speed * par.sweep.time_limit << " sigma exceeds --box-length "
+                << par.sweep.box_length << ": a replica can come back along its own path and meet its obstacles again\n";
     std::vector<mesoflow::droplets::SweepPoint> points;
     for (const double s : strengths)
       for (const double w : gaps) {

@@ -304,6 +304,12 @@ struct ObstacleSweep {
   static double time_step(const ObstacleEnsembleParameters& ens) {
     return ens.model == DropletModel::soft_particle ? resolve_time_step(ens.soft) : resolve_time_step(ens.droplet, true);
   }
+  // A replica can travel up to ≈ v_t T; beyond one box length L it falls through the periodic image
+  // of its own path and meets obstacles it has already passed, which inflates λ (at Fig. 13(b)'s
+  // scene with T = 2000 t0: λ = 38σ at L = 40σ, 9 of 50 replicas beyond L, against 20σ at
+  // L = 100σ, none beyond; docs/droplets.md). True when that can happen.
+  bool may_revisit_own_path() const { return terminal_speed * time_limit > box_length; }
+
   // Particle updates per replica-step: N_v vertices (DP) or one disk (SP).
   int bodies() const { return soft_particles ? 1 : vertices; }
 };
