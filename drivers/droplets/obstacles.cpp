@@ -12,10 +12,11 @@
 // Defaults: the paper's clogging scene (σ_ob = 0.3σ, w_ob = 0.2σ, Γ = 1.09, App. C; b0 = 0 as in
 // §4.3/App. E), threshold E_k/E_t = 10⁻¹⁷, obstacle area fraction φ = 0.0248 (the paper does not
 // state it; calibrated once to λ = 24σ on this scene, docs/droplets.md). The paper uses L = 500σ, T = 2·10⁵ t0 and N_s = 50; the
-// defaults here (L = 40σ, T = 200 t0, N_s = 16, N_v = 64) run in minutes on two cores. L = 40σ is
-// beyond λ ≈ 24σ of App. C, so a replica rarely revisits its own obstacles before it clogs; with
-// v ≤ v_t = 0.08 a droplet travels at most 16σ in 200 t0, so many replicas at the paper's point are
-// right-censored, which the estimator of λ accounts for (raise --time-limit to narrow the interval).
+// defaults here (L = 40σ, T = 200 t0, N_s = 16, N_v = 64) run in minutes on two cores. With
+// v ≤ v_t = 0.08 a droplet travels at most 16σ in 200 t0 < L, so no replica comes back through the
+// periodic image of its own path (which inflates λ: the driver warns when v_t T > L); many replicas
+// at the paper's point are right-censored, which the estimator of λ accounts for (raise
+// --time-limit, and --box-length with it, to narrow the interval).
 // K_l/Γ defaults to 0.1, not the paper's 10⁻³: a held droplet's vertices slide along its interface
 // at the rate π² k_l/b∞ (docs/droplets.md, deviation 4), so at 10⁻³ E_k reaches the clog threshold
 // only after ~10⁴ t0 at Γ ≈ 1 and every replica would end right-censored within T.
