@@ -11,6 +11,9 @@ import os
 import re
 import sys
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from profile_landmarks import landmarks, read_profile  # noqa: E402  (the §4.1 landmarks, one definition)
+
 d = sys.argv[1]
 rows = []
 for path in sorted(glob.glob(os.path.join(d, "*.json"))):
@@ -28,6 +31,12 @@ for path in sorted(glob.glob(os.path.join(d, "*.json"))):
                  "max_vg_over_vt_after": js["max_vg_over_vt_after_orifice"],
                  "max_shape_parameter": js["max_shape_parameter"], "max_area_error": js["max_area_error"],
                  "wall_seconds": js["wall_seconds"]})
+    prof = read_profile(os.path.join(d, name + ".csv"))  # where the maximum after the orifice and the minima lie
+    after = [(h, v) for h, v in prof if h > 0]
+    first, _, second, _ = landmarks(prof)
+    rows[-1].update({"h_at_max_after": max(after, key=lambda p: p[1])[0] if after else "",
+                     "h_first_min": first[0] if first else "", "vg_first_min": first[1] if first else "",
+                     "h_second_min": second[0] if second else "", "vg_second_min": second[1] if second else ""})
 if not rows:
     sys.exit("summarize_overshoot: no runs in " + d)
 with open(os.path.join(d, "overshoot.csv"), "w", newline="") as f:
