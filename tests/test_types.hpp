@@ -5,6 +5,7 @@
 
 #include <Kokkos_Core.hpp>
 
+#include <cmath>
 #include <type_traits>
 
 namespace mesoflow::testing {
@@ -33,6 +34,38 @@ using BackendsAndPrecisions = ::testing::Types<Config<Kokkos::DefaultExecutionSp
 template <class Real>
 constexpr double eps() {
   return std::is_same<Real, float>::value ? 1.2e-7 : 2.3e-16;
+}
+
+// Comparisons across backends (issue 26, item 3). Host backends (Serial, OpenMP) are compiled by the
+// host compiler, which mesoflow builds without FMA contraction, so their results agree to the bit and
+// tests compare them bitwise. Device compilers (nvcc, hipcc) contract a*b + c into one fused
+// multiply-add by default: every contracted operation skips one rounding, so an expression of
+// `operations` roundings whose intermediates are at most `scale` in magnitude can differ from the
+// host's value by up to operations · u · scale (to first order, Higham's γ_n; u the unit round-off,
+// eps()/2, doubled here for the one-ulp rounding of the final result on either side).
+template <class ExecSpace>
+constexpr bool has_host_arithmetic() {
+  return Kokkos::SpaceAccessibility<Kokkos::HostSpace, typename ExecSpace::memory_space>::accessible;
+}
+
+template <class Real>
+constexpr double contraction_bound(int operations, double scale) {
+  return double(operations) * eps<Real>() * scale;
+}
+
+// a (from ExecSpace) against b (from the host): bitwise where ExecSpace has host arithmetic, within
+// contraction_bound<Real>(operations, scale) otherwise.
+template <class ExecSpace, class Real>
+::testing::AssertionResult agrees_with_host(double a, double b, int operations, double scale) {
+  if (has_host_arithmetic<ExecSpace>()) {
+    if (a == b) return ::testing::AssertionSuccess();
+    return ::testing::AssertionFailure() << a << " != " << b << " (bitwise on a host backend)";
+  }
+  const double bound = contraction_bound<Real>(operations, scale);
+  if (std::abs(a - b) <= bound) return ::testing::AssertionSuccess();
+  return ::testing::AssertionFailure() << a << " vs " << b << ": |difference| " << std::abs(a - b) << " > "
+                                       << bound << " (" << operations << " contracted operations at scale " << scale
+                                       << ")";
 }
 
 }  // namespace mesoflow::testing

@@ -17,6 +17,7 @@
 // candidates (and hence its forces, to the bit) never depend on what the other bodies do.
 #pragma once
 
+#include "kernel_launch.hpp"
 #include "kokkos_compat.hpp"
 #include "obstacle_array.hpp"
 #include "particles.hpp"
@@ -26,6 +27,72 @@
 #include <string>
 
 namespace mesoflow {
+
+// The device part of a BodyObstacleList: the obstacle array's query handle and raw pointers into the
+// list's Views (row-major), about 200 bytes in double — what kernels capture (BodyObstacleList::query(),
+// kernels/common/kernel_launch.hpp). Valid until the list's next update().
+template <class Real, class ExecSpace = Kokkos::DefaultExecutionSpace>
+struct BodyObstacleQuery {
+  ObstacleArrayQuery<Real, ExecSpace> obstacles;
+  const int* body_array;   // obstacle array of each body
+  const Real* reference;   // c_b (x, y) and R_b per body: [3 b + k]
+  const int* count;        // CSR offsets of the candidates, per body
+  const Real* candidates;  // candidate centre images: [2 k + d]
+  Real skin;
+
+  // Nearest obstacle surface to x, a particle of body b: exact (see the file comment).
+  KOKKOS_INLINE_FUNCTION SurfacePoint<2, Real> nearest(int b, const Vec<2, Real>& x) const {
+    const Real cx = x[0] - reference[3 * b], cy = x[1] - reference[3 * b + 1];
+    const Real trusted = reference[3 * b + 2] + skin + obstacles.cell_width() - kmath::sqrt(cx * cx + cy * cy);
+    Real best_r2 = Kokkos::reduction_identity<Real>::min();
+    Vec<2, Real> best_dr = Vec<2, Real>::zero();
+    for (int k = count[b]; k < count[b + 1]; ++k) {
+      const Vec<2, Real> dr{{x[0] - candidates[2 * k], x[1] - candidates[2 * k + 1]}};
+      const Real r2 = norm2(dr);
+      if (r2 < best_r2) {
+        best_r2 = r2;
+        best_dr = dr;
+      }
+    }
+    if (!(trusted > Real(0) && best_r2 <= trusted * trusted)) return obstacles.nearest(body_array[b], x);
+    const Real rho = kmath::sqrt(best_r2);
+    const Vec<2, Real> outward = rho > Real(0) ? (Real(1) / rho) * best_dr : Vec<2, Real>{{Real(1), Real(0)}};
+    const Real distance = rho - obstacles.radius();
+    return {distance, x - distance * outward, outward};
+  }
+
+  // nearest(b, x), also calling visit(s) for the surface s of every obstacle at signed distance
+  // < reach from x, exact like nearest: one pass over the candidates when every obstacle centre
+  // within max(nearest, radius + reach) of x is certainly a candidate, the grid otherwise.
+  template <class Visit>
+  KOKKOS_INLINE_FUNCTION SurfacePoint<2, Real> nearest_within(int b, const Vec<2, Real>& x, Real reach,
+                                                              Visit&& visit) const {
+    const Real cx = x[0] - reference[3 * b], cy = x[1] - reference[3 * b + 1];
+    const Real trusted = reference[3 * b + 2] + skin + obstacles.cell_width() - kmath::sqrt(cx * cx + cy * cy);
+    const Real contact = obstacles.radius() + reach;  // centre distance below which visit is called
+    if (!(trusted >= contact)) return obstacles.nearest_within(body_array[b], x, reach, visit);
+    const Real contact2 = contact * contact;
+    Real best_r2 = Kokkos::reduction_identity<Real>::min();
+    Vec<2, Real> best_dr = Vec<2, Real>::zero();
+    for (int k = count[b]; k < count[b + 1]; ++k) {
+      const Vec<2, Real> dr{{x[0] - candidates[2 * k], x[1] - candidates[2 * k + 1]}};
+      const Real r2 = norm2(dr);
+      if (r2 < best_r2) {
+        best_r2 = r2;
+        best_dr = dr;
+      }
+      if (r2 < contact2) {
+        const SurfacePoint<2, Real> s = obstacles.surface_of(x, dr);
+        if (s.distance < reach) visit(s);
+      }
+    }
+    if (!(best_r2 <= trusted * trusted)) return obstacles.nearest(body_array[b], x);
+    const Real rho = kmath::sqrt(best_r2);
+    const Vec<2, Real> outward = rho > Real(0) ? (Real(1) / rho) * best_dr : Vec<2, Real>{{Real(1), Real(0)}};
+    const Real distance = rho - obstacles.radius();
+    return {distance, x - distance * outward, outward};
+  }
+};
 
 template <class Real, class ExecSpace = Kokkos::DefaultExecutionSpace>
 class BodyObstacleList {
@@ -53,7 +120,7 @@ class BodyObstacleList {
     if (count_bodies_outside(body_array, num_arrays) > 0)
       throw std::invalid_argument("body obstacle list: a body's obstacle array is outside [0, " +
                                   std::to_string(num_arrays) + ")");
-    reference_ = Kokkos::View<Real* [3], ExecSpace>("mesoflow::body_obstacle_list::reference", nb);
+    reference_ = Kokkos::View<Real* [3], Kokkos::LayoutRight, ExecSpace>("mesoflow::body_obstacle_list::reference", nb);
     count_ = int_view("mesoflow::body_obstacle_list::count", nb + 1);
     stale_ = int_view("mesoflow::body_obstacle_list::stale", nb);
   }
@@ -62,7 +129,7 @@ class BodyObstacleList {
   // KOKKOS_LAMBDA in a constructor.)
   static int count_bodies_outside(const int_view& body_array, int num_arrays) {
     int bad = 0;
-    Kokkos::parallel_reduce(
+    mesoflow::launch::parallel_reduce(
         "mesoflow::body_obstacle_list::check_arrays", Kokkos::RangePolicy<ExecSpace>(0, body_array.extent(0)),
         KOKKOS_LAMBDA(int b, int& acc) { acc += body_array(b) < 0 || body_array(b) >= num_arrays ? 1 : 0; }, bad);
     return bad;
@@ -101,12 +168,12 @@ class BodyObstacleList {
     const auto count = count_;
     const auto stale = stale_;
     const auto body_array = body_array_;
-    const auto obstacles = obstacles_;
+    const auto obstacles = obstacles_.query();
     const Real coverage = obstacles_.cell_width(), skin = skin_;
     for (int d = 0; d < 2; ++d)
       if (obstacles_.size() > 0 && obstacles_.box_length(d) < Real(2) * max_reach_bound(x))
         throw std::invalid_argument("body obstacle list: a body's candidate disk is wider than half the box");
-    Kokkos::parallel_for(
+    mesoflow::launch::parallel_for(
         "mesoflow::body_obstacle_list::reference", Kokkos::RangePolicy<ExecSpace>(0, nb), KOKKOS_LAMBDA(int b) {
           if (stale(b)) {
             const int begin = offset(b), end = offset(b + 1);
@@ -129,21 +196,21 @@ class BodyObstacleList {
                                     reference(b, 2) + skin + coverage, [&](const Vec<2, Real>&) { ++n; });
           count(b + 1) = n;
         });
-    Kokkos::parallel_scan(
+    mesoflow::launch::parallel_scan(
         "mesoflow::body_obstacle_list::offsets", Kokkos::RangePolicy<ExecSpace>(0, nb + 1),
         KOKKOS_LAMBDA(int k, int& partial, bool final) {
           partial += k == 0 ? 0 : count(k);
           if (final) count(k) = partial;
         });
     int total = 0;  // the scan's last entry, read back as a reduction (one scalar per rebuild)
-    Kokkos::parallel_reduce(
+    mesoflow::launch::parallel_reduce(
         "mesoflow::body_obstacle_list::total", Kokkos::RangePolicy<ExecSpace>(nb, nb + 1),
         KOKKOS_LAMBDA(int k, int& acc) { acc += count(k); }, total);
     if (int(candidates_.extent(0)) < total)
       candidates_ = Kokkos::View<Real* [2], Kokkos::LayoutRight, ExecSpace>(
           Kokkos::ViewAllocateWithoutInitializing("mesoflow::body_obstacle_list::candidates"), total + total / 4 + 1);
     const auto candidates = candidates_;
-    Kokkos::parallel_for(
+    mesoflow::launch::parallel_for(
         "mesoflow::body_obstacle_list::fill", Kokkos::RangePolicy<ExecSpace>(0, nb), KOKKOS_LAMBDA(int b) {
           int slot = count(b);
           const Vec<2, Real> c{{reference(b, 0), reference(b, 1)}};
@@ -157,57 +224,23 @@ class BodyObstacleList {
   }
 
  public:
-  // Nearest obstacle surface to x, a particle of body b: exact (see the file comment).
-  KOKKOS_INLINE_FUNCTION SurfacePoint<2, Real> nearest(int b, const Vec<2, Real>& x) const {
-    const Real cx = x[0] - reference_(b, 0), cy = x[1] - reference_(b, 1);
-    const Real trusted = reference_(b, 2) + skin_ + obstacles_.cell_width() - kmath::sqrt(cx * cx + cy * cy);
-    Real best_r2 = Kokkos::reduction_identity<Real>::min();
-    Vec<2, Real> best_dr = Vec<2, Real>::zero();
-    for (int k = count_(b); k < count_(b + 1); ++k) {
-      const Vec<2, Real> dr{{x[0] - candidates_(k, 0), x[1] - candidates_(k, 1)}};
-      const Real r2 = norm2(dr);
-      if (r2 < best_r2) {
-        best_r2 = r2;
-        best_dr = dr;
-      }
-    }
-    if (!(trusted > Real(0) && best_r2 <= trusted * trusted)) return obstacles_.nearest(body_array_(b), x);
-    const Real rho = kmath::sqrt(best_r2);
-    const Vec<2, Real> outward = rho > Real(0) ? (Real(1) / rho) * best_dr : Vec<2, Real>{{Real(1), Real(0)}};
-    const Real distance = rho - obstacles_.radius();
-    return {distance, x - distance * outward, outward};
+  using Query = BodyObstacleQuery<Real, ExecSpace>;
+
+  // The small handle kernels capture; valid until the next update().
+  KOKKOS_INLINE_FUNCTION Query query() const {
+    return {obstacles_.query(), body_array_.data(), reference_.data(), count_.data(), candidates_.data(), skin_};
   }
 
-  // nearest(b, x), also calling visit(s) for the surface s of every obstacle at signed distance
-  // < reach from x, exact like nearest: one pass over the candidates when every obstacle centre
-  // within max(nearest, radius + reach) of x is certainly a candidate, the grid otherwise.
+  // Nearest obstacle surface to x, a particle of body b: exact (see the file comment).
+  KOKKOS_INLINE_FUNCTION SurfacePoint<2, Real> nearest(int b, const Vec<2, Real>& x) const {
+    return query().nearest(b, x);
+  }
+
+  // nearest(b, x), also calling visit(s) for the surface of every obstacle at signed distance < reach.
   template <class Visit>
   KOKKOS_INLINE_FUNCTION SurfacePoint<2, Real> nearest_within(int b, const Vec<2, Real>& x, Real reach,
                                                               Visit&& visit) const {
-    const Real cx = x[0] - reference_(b, 0), cy = x[1] - reference_(b, 1);
-    const Real trusted = reference_(b, 2) + skin_ + obstacles_.cell_width() - kmath::sqrt(cx * cx + cy * cy);
-    const Real contact = obstacles_.radius() + reach;  // centre distance below which visit is called
-    if (!(trusted >= contact)) return obstacles_.nearest_within(body_array_(b), x, reach, visit);
-    const Real contact2 = contact * contact;
-    Real best_r2 = Kokkos::reduction_identity<Real>::min();
-    Vec<2, Real> best_dr = Vec<2, Real>::zero();
-    for (int k = count_(b); k < count_(b + 1); ++k) {
-      const Vec<2, Real> dr{{x[0] - candidates_(k, 0), x[1] - candidates_(k, 1)}};
-      const Real r2 = norm2(dr);
-      if (r2 < best_r2) {
-        best_r2 = r2;
-        best_dr = dr;
-      }
-      if (r2 < contact2) {
-        const SurfacePoint<2, Real> s = obstacles_.surface_of(x, dr);
-        if (s.distance < reach) visit(s);
-      }
-    }
-    if (!(best_r2 <= trusted * trusted)) return obstacles_.nearest(body_array_(b), x);
-    const Real rho = kmath::sqrt(best_r2);
-    const Vec<2, Real> outward = rho > Real(0) ? (Real(1) / rho) * best_dr : Vec<2, Real>{{Real(1), Real(0)}};
-    const Real distance = rho - obstacles_.radius();
-    return {distance, x - distance * outward, outward};
+    return query().nearest_within(b, x, reach, visit);
   }
 
   int num_bodies() const { return int(body_offset_.extent(0)) - 1; }
@@ -224,7 +257,7 @@ class BodyObstacleList {
     const auto stale = stale_;
     const Real skin = skin_;
     int outside = 0;
-    Kokkos::parallel_reduce(
+    mesoflow::launch::parallel_reduce(
         "mesoflow::body_obstacle_list::check", Kokkos::RangePolicy<ExecSpace>(0, num_bodies()),
         KOKKOS_LAMBDA(int b, int& acc) {
           const Real limit = reference(b, 2) + skin;
@@ -248,7 +281,7 @@ class BodyObstacleList {
   Real max_reach_bound(const PositionView& x) const {
     const auto offset = body_offset_;
     Real extent = 0;
-    Kokkos::parallel_reduce(
+    mesoflow::launch::parallel_reduce(
         "mesoflow::body_obstacle_list::extent", Kokkos::RangePolicy<ExecSpace>(0, num_bodies()),
         KOKKOS_LAMBDA(int b, Real& acc) {
           Real lo[2] = {x(offset(b), 0), x(offset(b), 1)}, hi[2] = {lo[0], lo[1]};
@@ -269,25 +302,31 @@ class BodyObstacleList {
   int_view body_offset_;
   int_view body_array_;  // obstacle array of each body
   Real skin_;
-  Kokkos::View<Real* [3], ExecSpace> reference_;  // c_b (x, y) and R_b per body
+  Kokkos::View<Real* [3], Kokkos::LayoutRight, ExecSpace> reference_;  // c_b (x, y) and R_b per body
   int_view count_;                                 // CSR offsets of the candidates, per body
   int_view stale_;                                 // 1: the body's reference disk moves at the next rebuild
   Kokkos::View<Real* [2], Kokkos::LayoutRight, ExecSpace> candidates_;
   int builds_ = 0;
 };
 
-// Surface query for the surface-force loop: the walls of a scene and, through a BodyObstacleList,
-// the obstacles near each particle's body.
+// Surface query for the surface-force loop: the walls of a scene and, through a BodyObstacleList's
+// query handle, the obstacles near each particle's body. A small handle (raw pointers into the
+// scene's Views, about 220 bytes in double): build it after the list's update() and pass it to one
+// launch (kernels/common/kernel_launch.hpp).
 template <class Real, class ExecSpace = Kokkos::DefaultExecutionSpace>
 struct BodySurfaces {
-  typename Surfaces<Real, ExecSpace>::shape_view walls;
+  const Shape<2, Real>* walls;
   int num_walls;
-  BodyObstacleList<Real, ExecSpace> obstacles;
-  Kokkos::View<int*, ExecSpace> body;  // body of each particle
+  BodyObstacleQuery<Real, ExecSpace> obstacles;
+  const int* body;  // body of each particle
+
+  BodySurfaces(const typename Surfaces<Real, ExecSpace>::shape_view& wall_shapes, int wall_count,
+               const BodyObstacleList<Real, ExecSpace>& list, const Kokkos::View<int*, ExecSpace>& body_of)
+      : walls(wall_shapes.data()), num_walls(wall_count), obstacles(list.query()), body(body_of.data()) {}
 
   KOKKOS_INLINE_FUNCTION SurfacePoint<2, Real> nearest(int i, const Vec<2, Real>& x) const {
-    const SurfacePoint<2, Real> wall = nearest_surface(walls.data(), num_walls, x);
-    const SurfacePoint<2, Real> obstacle = obstacles.nearest(body(i), x);
+    const SurfacePoint<2, Real> wall = nearest_surface(walls, num_walls, x);
+    const SurfacePoint<2, Real> obstacle = obstacles.nearest(body[i], x);
     return obstacle.distance < wall.distance ? obstacle : wall;
   }
 
@@ -295,8 +334,8 @@ struct BodySurfaces {
   template <class Visit>
   KOKKOS_INLINE_FUNCTION SurfacePoint<2, Real> nearest_within(int i, const Vec<2, Real>& x, Real reach,
                                                               Visit&& visit) const {
-    const SurfacePoint<2, Real> wall = walls_nearest_within(walls.data(), num_walls, x, reach, visit);
-    const SurfacePoint<2, Real> obstacle = obstacles.nearest_within(body(i), x, reach, visit);
+    const SurfacePoint<2, Real> wall = walls_nearest_within(walls, num_walls, x, reach, visit);
+    const SurfacePoint<2, Real> obstacle = obstacles.nearest_within(body[i], x, reach, visit);
     return obstacle.distance < wall.distance ? obstacle : wall;
   }
 };

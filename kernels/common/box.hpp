@@ -9,6 +9,44 @@
 
 namespace mesoflow {
 
+namespace box_detail {
+// dr mapped into [−L/2, L/2): the nearest image by a floor, then the last rounding folded back.
+// With fused multiply-add (nvcc contracts dr·(1/L) + ½ into one FMA by default) the floor can land
+// one image off for |dr| within round-off of L/2, (k + ½)L; the comparisons make the half-open
+// interval exact on every backend, whatever the compiler contracts.
+template <class Real>
+KOKKOS_INLINE_FUNCTION Real minimum_image_axis(Real dr, Real length, Real inv_length) {
+  dr -= length * kmath::floor(dr * inv_length + Real(0.5));
+  const Real half = Real(0.5) * length;
+  return dr >= half ? dr - length : (dr < -half ? dr + length : dr);
+}
+
+// The same for |dr| < 1.5 L: one conditional shift, no floor (exact by construction).
+template <class Real>
+KOKKOS_INLINE_FUNCTION Real minimum_image_near_axis(Real dr, Real length) {
+  const Real half = Real(0.5) * length;
+  return dr - (dr >= half ? length : (dr < -half ? -length : Real(0)));
+}
+}  // namespace box_detail
+
+// What the minimum-image convention needs of a Box (per-axis length, 1/length, periodicity): the
+// pair loops capture this (56 bytes in 3D double) rather than the whole Box.
+template <int D, class Real>
+struct PeriodicImages {
+  Real length[D];
+  Real inv_length[D];
+  bool periodic[D];
+
+  KOKKOS_INLINE_FUNCTION void minimum_image(Vec<D, Real>& dr) const {
+    for (int d = 0; d < D; ++d)
+      if (periodic[d]) dr[d] = box_detail::minimum_image_axis(dr[d], length[d], inv_length[d]);
+  }
+  KOKKOS_INLINE_FUNCTION void minimum_image_near(Vec<D, Real>& dr) const {
+    for (int d = 0; d < D; ++d)
+      if (periodic[d]) dr[d] = box_detail::minimum_image_near_axis(dr[d], length[d]);
+  }
+};
+
 template <int D, class Real>
 struct Box {
   Real lo[D];
@@ -53,19 +91,25 @@ struct Box {
   // Minimum-image convention on the periodic axes: maps a separation into [-L/2, L/2).
   KOKKOS_INLINE_FUNCTION void minimum_image(Vec<D, Real>& dr) const {
     for (int d = 0; d < D; ++d)
-      if (periodic[d]) dr[d] -= length[d] * kmath::floor(dr[d] * inv_length[d] + Real(0.5));
+      if (periodic[d]) dr[d] = box_detail::minimum_image_axis(dr[d], length[d], inv_length[d]);
   }
 
   // The same map for separations known to satisfy |dr| < 1.5 L on the periodic axes (two points
   // each at most L/4 outside the box, as between neighbor-list rebuilds): one conditional shift
-  // per axis instead of a floor, for the innermost pair loops. Identical to minimum_image() except
-  // for separations within round-off of ±L/2, where both images are equally near.
+  // per axis instead of a floor, for the innermost pair loops. Picks the same image as minimum_image().
   KOKKOS_INLINE_FUNCTION void minimum_image_near(Vec<D, Real>& dr) const {
     for (int d = 0; d < D; ++d)
-      if (periodic[d]) {
-        const Real half = Real(0.5) * length[d];
-        dr[d] -= dr[d] >= half ? length[d] : (dr[d] < -half ? -length[d] : Real(0));
-      }
+      if (periodic[d]) dr[d] = box_detail::minimum_image_near_axis(dr[d], length[d]);
+  }
+
+  PeriodicImages<D, Real> images() const {
+    PeriodicImages<D, Real> m;
+    for (int d = 0; d < D; ++d) {
+      m.length[d] = length[d];
+      m.inv_length[d] = inv_length[d];
+      m.periodic[d] = periodic[d];
+    }
+    return m;
   }
 
   // Position folded into [lo, lo + L) on the periodic axes; bounded axes are left alone.

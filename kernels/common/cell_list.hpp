@@ -6,6 +6,7 @@
 // count does, and are reused otherwise (no allocation in a time-step loop at fixed size).
 #pragma once
 
+#include "kernel_launch.hpp"
 #include "box.hpp"
 #include "kokkos_compat.hpp"
 #include "vec.hpp"
@@ -82,10 +83,10 @@ class CellList {
     auto slots = cell_particles_;
     auto xb = x_binned_;
 
-    Kokkos::parallel_for(
+    mesoflow::launch::parallel_for(
         "mesoflow::cell_list::clear", Kokkos::RangePolicy<ExecSpace>(0, ncell),
         KOKKOS_LAMBDA(int k) { counts(k) = 0; });
-    Kokkos::parallel_for(
+    mesoflow::launch::parallel_for(
         "mesoflow::cell_list::count", Kokkos::RangePolicy<ExecSpace>(0, n), KOKKOS_LAMBDA(int i) {
           Vec<D, Real> xi = Vec<D, Real>::load(x, i);
           box.wrap(xi);
@@ -95,7 +96,7 @@ class CellList {
           cell_of(i) = k;
           Kokkos::atomic_add(&counts(k), 1);
         });
-    Kokkos::parallel_scan(
+    mesoflow::launch::parallel_scan(
         "mesoflow::cell_list::offsets", Kokkos::RangePolicy<ExecSpace>(0, ncell + 1),
         KOKKOS_LAMBDA(int k, int& partial, bool final) {
           const int c = k < ncell ? counts(k) : 0;
@@ -107,7 +108,7 @@ class CellList {
         });
     // Each particle writes its index and its folded position straight into its slot (one
     // scattered write instead of a gather of D separate SoA components later).
-    Kokkos::parallel_for(
+    mesoflow::launch::parallel_for(
         "mesoflow::cell_list::fill", Kokkos::RangePolicy<ExecSpace>(0, n), KOKKOS_LAMBDA(int i) {
           const int k = cell_of(i);
           const int s = offset(k) + Kokkos::atomic_fetch_add(&counts(k), 1);
@@ -118,7 +119,7 @@ class CellList {
         });
     // Atomics leave each cell in thread-dependent order: sort it by particle index, moving the
     // positions along (insertion sort: cells hold few particles).
-    Kokkos::parallel_for(
+    mesoflow::launch::parallel_for(
         "mesoflow::cell_list::order", Kokkos::RangePolicy<ExecSpace>(0, ncell), KOKKOS_LAMBDA(int k) {
           const int begin = offset(k), end = offset(k + 1);
           for (int s = begin + 1; s < end; ++s) {

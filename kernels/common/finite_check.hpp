@@ -5,6 +5,7 @@
 // index whatever the backend or thread count; a copy is a kernel, never a host transfer.
 #pragma once
 
+#include "kernel_launch.hpp"
 #include "kokkos_compat.hpp"
 
 #include <stdexcept>
@@ -20,7 +21,7 @@ long long first_non_finite(const View& a, const std::string& label = "mesoflow::
   const long long none = static_cast<long long>(a.extent(0));
   long long first = none;
   const int components = View::rank == 2 ? int(a.extent(1)) : 1;
-  Kokkos::parallel_reduce(
+  mesoflow::launch::parallel_reduce(
       label, Kokkos::RangePolicy<exec>(0, a.extent(0)),
       KOKKOS_LAMBDA(long long i, long long& lowest) {
         const View& v = a;  // captured outside `if constexpr` (nvcc rejects a first capture inside)
@@ -46,7 +47,7 @@ double max_norm(const View& a, const std::string& label = "mesoflow::finite_chec
   if (View::rank == 2 && a.extent(1) > 3) throw std::invalid_argument("max_norm: at most 3 components");
   const int components = View::rank == 2 ? int(a.extent(1)) : 1;
   double largest = 0;
-  Kokkos::parallel_reduce(
+  mesoflow::launch::parallel_reduce(
       label, Kokkos::RangePolicy<exec>(0, a.extent(0)),
       KOKKOS_LAMBDA(long long i, double& m) {
         const View& v = a;  // captured outside `if constexpr` (nvcc rejects a first capture inside)
@@ -74,7 +75,7 @@ void copy_field(const Dst& dst, const Src& src, const std::string& label = "meso
   using exec = typename Dst::execution_space;
   static_assert(int(Dst::rank) == int(Src::rank) && (Dst::rank == 1 || Dst::rank == 2), "copy_field: equal ranks 1 or 2");
   const int components = Dst::rank == 2 ? int(dst.extent(1)) : 1;
-  Kokkos::parallel_for(
+  mesoflow::launch::parallel_for(
       label, Kokkos::RangePolicy<exec>(0, src.extent(0)), KOKKOS_LAMBDA(long long i) {
         const Dst& to = dst;  // captured outside `if constexpr` (nvcc rejects a first capture inside)
         const Src& from = src;

@@ -14,6 +14,7 @@
 // One fused reduction per iteration gives P, |v|², |F|² and max|F_i|.
 #pragma once
 
+#include "kernel_launch.hpp"
 #include "kokkos_compat.hpp"
 #include "particles.hpp"
 
@@ -92,7 +93,7 @@ template <int D, class Real, class ExecSpace>
 void fire_move(const Particles<D, Real, ExecSpace>& p, Real h, Real zero_v, Real mix_v, Real mix_f) {
   const auto x = p.x, v = p.v, f = p.f;
   const auto m = p.mass;
-  Kokkos::parallel_for(
+  mesoflow::launch::parallel_for(
       "mesoflow::fire::step", Kokkos::RangePolicy<ExecSpace>(0, p.size()), KOKKOS_LAMBDA(int i) {
         const Real inv_m = Real(1) / m(i);
         for (int d = 0; d < D; ++d) {
@@ -121,7 +122,7 @@ FireResult fire_minimize(const Particles<D, Real, ExecSpace>& p, ForceFunction&&
   using Functor = detail::FirePowerFunctor<decltype(p.v), decltype(p.mass), D>;
   for (result.iterations = 0;; ++result.iterations) {
     detail::FirePowers s;
-    Kokkos::parallel_reduce("mesoflow::fire::powers", Kokkos::RangePolicy<ExecSpace>(0, n), Functor{v, f}, s);
+    mesoflow::launch::parallel_reduce("mesoflow::fire::powers", Kokkos::RangePolicy<ExecSpace>(0, n), Functor{v, f}, s);
     if (!std::isfinite(s.power) || !std::isfinite(s.v2) || !std::isfinite(s.f2))
       throw std::runtime_error("fire_minimize: non-finite forces or velocities at iteration " +
                                std::to_string(result.iterations) + " (dt_max " + std::to_string(params.dt_max) +

@@ -6,6 +6,7 @@
 // count and restarts continue the same noise.
 #pragma once
 
+#include "kernel_launch.hpp"
 #include "kokkos_compat.hpp"
 #include "particles.hpp"
 #include "random.hpp"
@@ -40,7 +41,7 @@ struct LangevinThermostat {
     const auto m = p.mass;
     const Real g = gamma, noise2 = Real(2) * gamma * temperature / dt;
     const std::uint64_t key = seed;
-    Kokkos::parallel_for(
+    mesoflow::launch::parallel_for(
         "mesoflow::langevin::accumulate", Kokkos::RangePolicy<ExecSpace>(0, p.size()), KOKKOS_LAMBDA(int i) {
           RandomStream xi = particle_stream(key, std::uint64_t(step), std::uint32_t(i));
           const Real amplitude = kmath::sqrt(noise2 * m(i));

@@ -19,6 +19,7 @@
 // then reads only the front of each row. The split costs one comparison per candidate in the build.
 #pragma once
 
+#include "kernel_launch.hpp"
 #include "box.hpp"
 #include "cell_list.hpp"
 #include "kokkos_compat.hpp"
@@ -34,20 +35,33 @@ namespace mesoflow {
 enum class NeighborListKind { full, half };
 enum class BodyExclusion { none, same_body };
 
-// What a kernel needs from a neighbor list, copied by value into lambdas. Rows are stored in
-// cell order (row r holds the neighbors of particle particle(r)), so a build writes them
-// sequentially whatever the order of the particle arrays; loop over rows, not particles.
+// What a kernel needs from a neighbor list, copied by value into lambdas: pointers into the list's
+// Views and the index array's strides (56 bytes; kernels/common/kernel_launch.hpp), valid until the
+// list's next build. Rows are stored in cell order (row r holds the neighbors of particle
+// particle(r)), so a build writes them sequentially whatever the order of the particle arrays; loop
+// over rows, not particles.
 template <class ExecSpace>
 struct NeighborData {
+  const int* row_particle;
+  const int* count;
+  const int* index;  // neighbor k of row r: index[r * row_stride + k * slot_stride] (any layout)
+  const int* inner;  // neighbors within the inner cutoff + skin (front of the row)
+  long row_stride, slot_stride;
+  int rows;
+  KOKKOS_INLINE_FUNCTION int particle(int row) const { return row_particle[row]; }
+  KOKKOS_INLINE_FUNCTION int num_neighbors(int row) const { return count[row]; }
+  KOKKOS_INLINE_FUNCTION int num_inner_neighbors(int row) const { return inner[row]; }
+  KOKKOS_INLINE_FUNCTION int neighbor(int row, int k) const { return index[row * row_stride + k * slot_stride]; }
+  int num_rows() const { return rows; }
+};
+
+// The list's Views themselves, for host-side inspection (tests, output): not for kernels.
+template <class ExecSpace>
+struct NeighborViews {
   Kokkos::View<int*, ExecSpace> row_particle;
   Kokkos::View<int*, ExecSpace> count;
   Kokkos::View<int**, ExecSpace> index;
-  Kokkos::View<int*, ExecSpace> inner;  // neighbors within the inner cutoff + skin (front of the row)
-  KOKKOS_INLINE_FUNCTION int particle(int row) const { return row_particle(row); }
-  KOKKOS_INLINE_FUNCTION int num_neighbors(int row) const { return count(row); }
-  KOKKOS_INLINE_FUNCTION int num_inner_neighbors(int row) const { return inner(row); }
-  KOKKOS_INLINE_FUNCTION int neighbor(int row, int k) const { return index(row, k); }
-  int num_rows() const { return int(count.extent(0)); }
+  Kokkos::View<int*, ExecSpace> inner;
 };
 
 template <int D, class Real, class ExecSpace>
@@ -121,7 +135,7 @@ class NeighborList {
     max_neighbors_ = needed;
     auto x = p.x;
     auto x_ref = x_ref_;
-    Kokkos::parallel_for(
+    mesoflow::launch::parallel_for(
         "mesoflow::neighbor_list::remember_positions", Kokkos::RangePolicy<ExecSpace>(0, n),
         KOKKOS_LAMBDA(int i) {
           for (int d = 0; d < D; ++d) x_ref(i, d) = x(i, d);
@@ -130,7 +144,11 @@ class NeighborList {
     ++num_builds_;
   }
 
-  NeighborData<ExecSpace> data() const { return {cells_.cell_particles(), count_, index_, inner_}; }
+  NeighborViews<ExecSpace> views() const { return {cells_.cell_particles(), count_, index_, inner_}; }
+  NeighborData<ExecSpace> data() const {
+    return {cells_.cell_particles().data(), count_.data(), index_.data(), inner_.data(),
+            long(index_.stride(0)), long(index_.stride(1)), int(count_.extent(0))};
+  }
   NeighborListKind kind() const { return kind_; }
   BodyExclusion exclusion() const { return exclusion_; }
   Real cutoff() const { return cutoff_; }
@@ -148,7 +166,7 @@ class NeighborList {
   long long num_entries() const {
     auto count = count_;
     long long total = 0;
-    Kokkos::parallel_reduce(
+    mesoflow::launch::parallel_reduce(
         "mesoflow::neighbor_list::num_entries", Kokkos::RangePolicy<ExecSpace>(0, count.extent(0)),
         KOKKOS_LAMBDA(int i, long long& acc) { acc += count(i); }, total);
     return total;
@@ -191,7 +209,7 @@ class NeighborList {
       body_binned_ = int_view(Kokkos::ViewAllocateWithoutInitializing("mesoflow::neighbor_list::body"), n);
     const auto slots = cells_.cell_particles();
     const auto binned = body_binned_;
-    Kokkos::parallel_for(
+    mesoflow::launch::parallel_for(
         "mesoflow::neighbor_list::gather_body", Kokkos::RangePolicy<ExecSpace>(0, n),
         KOKKOS_LAMBDA(int s) { binned(s) = body(slots(s)); });
   }
@@ -225,7 +243,7 @@ class NeighborList {
     const Real skip_gap2 = reach2 * (Real(1) + Real(64) * std::numeric_limits<Real>::epsilon());
     const int n = cells_.num_particles();
     int needed = 0;
-    Kokkos::parallel_reduce(
+    mesoflow::launch::parallel_reduce(
         "mesoflow::neighbor_list::fill", Kokkos::RangePolicy<ExecSpace>(0, n),
         KOKKOS_LAMBDA(int s, int& longest) {
           const int body_i = ExcludeBody ? body(s) : -1;

@@ -330,11 +330,223 @@ inline std::vector<Vec<2, double>> random_sequential_obstacles(double length_x, 
 // around the query: O(1) at fixed obstacle density, whatever the box size. Sparser arrays search
 // further and still answer exactly.
 //
-// A plain copyable object (Views and scalars): copy it into a kernel and call nearest(x). Default
-// constructed, it holds no obstacles and nearest(x) is no_surface(x).
+// A plain copyable object (Views and scalars). Its queries (nearest, for_each_within, ...) live in
+// ObstacleArrayQuery, its base: kernels capture query() (about 150 bytes), not the owning object.
+// Default constructed, it holds no obstacles and nearest(x) is no_surface(x).
+// The device part of an ObstacleArray: what a kernel needs to query it, and nothing it would
+// have to own — scalars and two pointers into its Views (about 140 bytes in double), so that kernels
+// capture this small handle (ObstacleArray::query()) instead of the owning object
+// (kernels/common/kernel_launch.hpp). Valid while the ObstacleArray it came from (or a copy) lives.
 template <class Real, class ExecSpace = Kokkos::DefaultExecutionSpace>
-class ObstacleArray {
+class ObstacleArrayQuery {
  public:
+  using execution_space = ExecSpace;
+  using memory_space = typename ExecSpace::memory_space;
+
+  KOKKOS_INLINE_FUNCTION Real radius() const { return radius_; }
+  // Width of the grid cells: for a maximal Poisson-disk array (poisson_disk_obstacles with
+  // cell width σ_ob + w_ob) every point lies within this distance of an obstacle centre.
+  KOKKOS_INLINE_FUNCTION Real cell_width() const { return min_width_; }
+
+  // Calls visit(centre_image) for every obstacle whose nearest periodic image to x lies within
+  // `radius` of x (centre_image: that image's position, x − centre_image the minimum-image
+  // separation). Visits each obstacle at most once; for setup work (candidate lists), not hot loops.
+  template <class Visitor>
+  KOKKOS_INLINE_FUNCTION void for_each_within(const Vec<2, Real>& x, Real radius, Visitor&& visit) const {
+    for_each_within(0, x, radius, visit);
+  }
+
+  // for_each_within(x, radius, visit) over the obstacles of array `array` only.
+  template <class Visitor>
+  KOKKOS_INLINE_FUNCTION void for_each_within(int array, const Vec<2, Real>& x, Real radius, Visitor&& visit) const {
+    if (num_obstacles_ == 0) return;
+    const int base = array * cells_per_array_;
+    int home[2], first[2], count[2];
+    for (int d = 0; d < 2; ++d) {
+      Real u = (x[d] - lo_[d]) * inv_width_[d];
+      u -= Real(n_[d]) * kmath::floor(u / Real(n_[d]));
+      const int c = int(kmath::floor(u));
+      home[d] = c < 0 ? 0 : (c >= n_[d] ? n_[d] - 1 : c);
+      const int reach = int(kmath::floor(radius * inv_width_[d])) + 1;
+      first[d] = 2 * reach + 1 >= n_[d] ? 0 : home[d] - reach;  // the whole axis when it wraps onto itself
+      count[d] = 2 * reach + 1 >= n_[d] ? n_[d] : 2 * reach + 1;
+    }
+    const Real radius2 = radius * radius;
+    for (int oy = 0; oy < count[1]; ++oy)
+      for (int ox = 0; ox < count[0]; ++ox) {
+        const int cx = ((first[0] + ox) % n_[0] + n_[0]) % n_[0];
+        const int cy = ((first[1] + oy) % n_[1] + n_[1]) % n_[1];
+        const int k = base + cx + n_[0] * cy;
+        for (int s = cell_offset_[k]; s < cell_offset_[k + 1]; ++s) {
+          Vec<2, Real> dr{{x[0] - centers_[2 * s + 0], x[1] - centers_[2 * s + 1]}};
+          for (int d = 0; d < 2; ++d) dr[d] -= length_[d] * kmath::floor(dr[d] * inv_length_[d] + Real(0.5));
+          if (norm2(dr) < radius2) visit(x - dr);
+        }
+      }
+  }
+
+  // The surface of one obstacle as seen from x, dr = x − the obstacle's centre image: signed
+  // distance, surface point, outward normal.
+  KOKKOS_INLINE_FUNCTION SurfacePoint<2, Real> surface_of(const Vec<2, Real>& x, const Vec<2, Real>& dr) const {
+    const Real rho = kmath::sqrt(norm2(dr));
+    const Vec<2, Real> outward = rho > Real(0) ? (Real(1) / rho) * dr : geometry_detail::unit_axis<2, Real>(0);
+    const Real distance = rho - radius_;
+    return {distance, x - distance * outward, outward};
+  }
+
+  // nearest(array, x), also calling visit(s) for the surface s of every obstacle of the array at
+  // signed distance < reach from x (for_each_within's order).
+  template <class Visit>
+  KOKKOS_INLINE_FUNCTION SurfacePoint<2, Real> nearest_within(int array, const Vec<2, Real>& x, Real reach,
+                                                              Visit&& visit) const {
+    for_each_within(array, x, reach + radius_, [&](const Vec<2, Real>& image) {
+      const SurfacePoint<2, Real> s = surface_of(x, x - image);
+      if (s.distance < reach) visit(s);
+    });
+    return nearest(array, x);
+  }
+
+  // Signed distance to the nearest obstacle's surface at x (any x: periodic images are taken), the
+  // nearest surface point and the normal there, pointing out of the obstacle. Ties go to the obstacle
+  // found first (inner rings first, cell order within a ring).
+  KOKKOS_INLINE_FUNCTION SurfacePoint<2, Real> nearest(const Vec<2, Real>& x) const {
+    int examined;
+    return nearest_examined(0, x, examined);
+  }
+
+  // nearest(x) among the obstacles of array `array` only (no_surface(x) if it has none).
+  KOKKOS_INLINE_FUNCTION SurfacePoint<2, Real> nearest(int array, const Vec<2, Real>& x) const {
+    int examined;
+    return nearest_examined(array, x, examined);
+  }
+
+  // nearest(x), also counting the obstacles whose distance it computed (the cost of the query).
+  KOKKOS_INLINE_FUNCTION SurfacePoint<2, Real> nearest_examined(const Vec<2, Real>& x, int& examined) const {
+    return nearest_examined(0, x, examined);
+  }
+
+  KOKKOS_INLINE_FUNCTION SurfacePoint<2, Real> nearest_examined(int array, const Vec<2, Real>& x,
+                                                                int& examined) const {
+    examined = 0;
+    if (num_obstacles_ == 0) return no_surface(x);
+    const int base = array * cells_per_array_;
+    if (cell_offset_[base] == cell_offset_[base + cells_per_array_]) return no_surface(x);
+    // Cell of x folded into the box, and the distance from x to that cell's nearest edge.
+    int home[2];
+    Real gap = min_width_;
+    Vec<2, Real> folded;  // x folded into the box
+    Real fraction[2];     // position of x within its home cell, in cell widths
+    for (int d = 0; d < 2; ++d) {
+      Real u = (x[d] - lo_[d]) * inv_width_[d];
+      u -= Real(n_[d]) * kmath::floor(u / Real(n_[d]));
+      folded[d] = lo_[d] + u / inv_width_[d];
+      const int c = int(kmath::floor(u));
+      home[d] = c < 0 ? 0 : (c >= n_[d] ? n_[d] - 1 : c);
+      const Real inside = u - Real(home[d]);
+      fraction[d] = inside;
+      const Real edge = (inside < Real(0.5) ? inside : Real(1) - inside) / inv_width_[d];
+      gap = edge < gap ? edge : gap;
+    }
+    gap = gap > Real(0) ? gap : Real(0);
+
+    Real best_r2 = Kokkos::reduction_identity<Real>::min();
+    Vec<2, Real> best_dr = Vec<2, Real>::zero();
+    // Ring k: the cells whose offset from home has Chebyshev norm k, offsets clipped per axis to
+    // [−⌊(n−1)/2⌋, ⌊n/2⌋] so that every cell is visited once. Every image of a centre in ring k lies
+    // at least (k − 1)·width + gap from x.
+    for (int k = 0; k <= max_ring_; ++k) {
+      if (k > 0) {
+        const Real reach = Real(k - 1) * min_width_ + gap;
+        if (reach * reach > best_r2) break;
+      }
+      int lo[2], hi[2];
+      for (int d = 0; d < 2; ++d) {
+        const int below = (n_[d] - 1) / 2, above = n_[d] / 2;
+        lo[d] = k < below ? -k : -below;
+        hi[d] = k < above ? k : above;
+      }
+      for (int oy = lo[1]; oy <= hi[1]; ++oy) {
+        if (oy == -k || oy == k) {
+          for (int ox = lo[0]; ox <= hi[0]; ++ox) scan_cell(base, folded, home, fraction, ox, oy, best_r2, best_dr, examined);
+        } else {
+          if (lo[0] == -k) scan_cell(base, folded, home, fraction, -k, oy, best_r2, best_dr, examined);
+          if (hi[0] == k) scan_cell(base, folded, home, fraction, k, oy, best_r2, best_dr, examined);
+        }
+      }
+    }
+    const Real rho = kmath::sqrt(best_r2);
+    const Vec<2, Real> outward = rho > Real(0) ? (Real(1) / rho) * best_dr : geometry_detail::unit_axis<2, Real>(0);
+    const Real distance = rho - radius_;
+    return {distance, x - distance * outward, outward};
+  }
+
+ protected:
+  // Minimum-image separations from x to the centres of the cell at offset (ox, oy) from home; keeps
+  // the shortest (the first of equals).
+  KOKKOS_INLINE_FUNCTION void scan_cell(int base, const Vec<2, Real>& x, const int (&home)[2], const Real (&fraction)[2],
+                                        int ox, int oy, Real& best_r2, Vec<2, Real>& best_dr, int& examined) const {
+    // The cell `o` cells from home, wrapped once (|o| < n), and the image shift of its centres.
+    // While (|o| + 1) cells fit in half the box on both axes that image is the minimum image;
+    // beyond, each centre gets the minimum image explicitly (small boxes, far rings).
+    const int offset[2] = {ox, oy};
+    int c[2];
+    Vec<2, Real> image = x;  // x moved by minus the shift, so dr = image − centre
+    bool nearest_image = true;
+    for (int d = 0; d < 2; ++d) {
+      c[d] = home[d] + offset[d];
+      if (c[d] < 0) {
+        c[d] += n_[d];
+        image[d] += length_[d];
+      } else if (c[d] >= n_[d]) {
+        c[d] -= n_[d];
+        image[d] -= length_[d];
+      }
+      const int reach = offset[d] < 0 ? 1 - offset[d] : 1 + offset[d];
+      nearest_image = nearest_image && 2 * reach <= n_[d];
+    }
+    if (nearest_image) {  // skip a cell whose every point is farther than the best centre so far
+      Real gap2 = 0;
+      for (int d = 0; d < 2; ++d) {
+        const Real cells = offset[d] < 0 ? fraction[d] - Real(offset[d] + 1)
+                                         : (offset[d] > 0 ? Real(offset[d]) - fraction[d] : Real(0));
+        const Real g = cells / inv_width_[d];
+        gap2 += g * g;
+      }
+      if (gap2 >= best_r2) return;
+    }
+    const int k = base + c[0] + n_[0] * c[1];
+    for (int s = cell_offset_[k]; s < cell_offset_[k + 1]; ++s) {
+      Vec<2, Real> dr{{image[0] - centers_[2 * s + 0], image[1] - centers_[2 * s + 1]}};
+      if (!nearest_image)
+        for (int d = 0; d < 2; ++d) dr[d] -= length_[d] * kmath::floor(dr[d] * inv_length_[d] + Real(0.5));
+      const Real r2 = norm2(dr);
+      ++examined;
+      if (r2 < best_r2) {
+        best_r2 = r2;
+        best_dr = dr;
+      }
+    }
+  }
+
+  int num_arrays_ = 1;
+  int num_obstacles_ = 0;
+  int cells_per_array_ = 1;
+  Real radius_ = 0;
+  int n_[2] = {1, 1};
+  Real lo_[2] = {};
+  Real length_[2] = {Real(1), Real(1)};
+  Real inv_length_[2] = {Real(1), Real(1)};
+  Real inv_width_[2] = {Real(1), Real(1)};
+  Real min_width_ = Real(1);
+  int max_ring_ = 0;
+  const int* cell_offset_ = nullptr;  // CSR offsets of the cells (ObstacleArray's Views, device memory)
+  const Real* centers_ = nullptr;     // centres in cell order, row-major: [2 s + d]
+};
+
+template <class Real, class ExecSpace = Kokkos::DefaultExecutionSpace>
+class ObstacleArray : public ObstacleArrayQuery<Real, ExecSpace> {
+ public:
+  using Query = ObstacleArrayQuery<Real, ExecSpace>;
   using execution_space = ExecSpace;
   using memory_space = typename ExecSpace::memory_space;
   using center_view = Kokkos::View<const Real* [2], Kokkos::LayoutRight, memory_space>;
@@ -358,7 +570,9 @@ class ObstacleArray {
   struct SeveralArrays {};
   ObstacleArray(const Box<2, Real>& box, const std::vector<std::vector<Vec<2, double>>>& arrays, Real diameter,
                 Real cell_width, SeveralArrays)
-      : num_arrays_(int(arrays.size())), radius_(Real(0.5) * diameter) {
+      {
+    num_arrays_ = int(arrays.size());
+    radius_ = Real(0.5) * diameter;
     if (arrays.empty()) throw std::invalid_argument("obstacle_array: no arrays (pass one, possibly empty)");
     obstacle_detail::require_positive(double(diameter), "obstacle_array: diameter");
     obstacle_detail::require_positive(double(cell_width), "obstacle_array: cell width");
@@ -420,8 +634,10 @@ class ObstacleArray {
     }
     Kokkos::deep_copy(offset, offset_host);
     Kokkos::deep_copy(binned, binned_host);
-    cell_offset_ = offset;
-    centers_ = binned;
+    cell_offset_owner_ = offset;
+    centers_owner_ = binned;
+    this->cell_offset_ = offset.data();
+    this->centers_ = binned.data();
   }
 
  public:
@@ -430,198 +646,17 @@ class ObstacleArray {
   int num_arrays() const { return num_arrays_; }
   // Obstacles in array a (host).
   int size(int array) const { return num_obstacles_ == 0 ? 0 : array_first_(array + 1) - array_first_(array); }
-  Real radius() const { return radius_; }
   int cells(int d) const { return n_[d]; }
   // Centres folded into the box, in cell order (array by array).
-  center_view centers() const { return centers_; }
+  center_view centers() const { return centers_owner_; }
+  // The small handle kernels capture (see ObstacleArrayQuery).
+  KOKKOS_INLINE_FUNCTION Query query() const { return Query(*this); }
   // Array a's centres are centers()[first_obstacle(a), first_obstacle(a + 1)) (host).
   int first_obstacle(int array) const { return num_obstacles_ == 0 ? 0 : array_first_(array); }
 
-  // Width of the grid cells: for a maximal Poisson-disk array (poisson_disk_obstacles with
-  // cell width σ_ob + w_ob) every point lies within this distance of an obstacle centre.
-  Real cell_width() const { return min_width_; }
   Real box_length(int d) const { return length_[d]; }
 
-  // Calls visit(centre_image) for every obstacle whose nearest periodic image to x lies within
-  // `radius` of x (centre_image: that image's position, x − centre_image the minimum-image
-  // separation). Visits each obstacle at most once; for setup work (candidate lists), not hot loops.
-  template <class Visitor>
-  KOKKOS_INLINE_FUNCTION void for_each_within(const Vec<2, Real>& x, Real radius, Visitor&& visit) const {
-    for_each_within(0, x, radius, visit);
-  }
-
-  // for_each_within(x, radius, visit) over the obstacles of array `array` only.
-  template <class Visitor>
-  KOKKOS_INLINE_FUNCTION void for_each_within(int array, const Vec<2, Real>& x, Real radius, Visitor&& visit) const {
-    if (num_obstacles_ == 0) return;
-    const int base = array * cells_per_array_;
-    int home[2], first[2], count[2];
-    for (int d = 0; d < 2; ++d) {
-      Real u = (x[d] - lo_[d]) * inv_width_[d];
-      u -= Real(n_[d]) * kmath::floor(u / Real(n_[d]));
-      const int c = int(kmath::floor(u));
-      home[d] = c < 0 ? 0 : (c >= n_[d] ? n_[d] - 1 : c);
-      const int reach = int(kmath::floor(radius * inv_width_[d])) + 1;
-      first[d] = 2 * reach + 1 >= n_[d] ? 0 : home[d] - reach;  // the whole axis when it wraps onto itself
-      count[d] = 2 * reach + 1 >= n_[d] ? n_[d] : 2 * reach + 1;
-    }
-    const Real radius2 = radius * radius;
-    for (int oy = 0; oy < count[1]; ++oy)
-      for (int ox = 0; ox < count[0]; ++ox) {
-        const int cx = ((first[0] + ox) % n_[0] + n_[0]) % n_[0];
-        const int cy = ((first[1] + oy) % n_[1] + n_[1]) % n_[1];
-        const int k = base + cx + n_[0] * cy;
-        for (int s = cell_offset_(k); s < cell_offset_(k + 1); ++s) {
-          Vec<2, Real> dr{{x[0] - centers_(s, 0), x[1] - centers_(s, 1)}};
-          for (int d = 0; d < 2; ++d) dr[d] -= length_[d] * kmath::floor(dr[d] * inv_length_[d] + Real(0.5));
-          if (norm2(dr) < radius2) visit(x - dr);
-        }
-      }
-  }
-
-  // The surface of one obstacle as seen from x, dr = x − the obstacle's centre image: signed
-  // distance, surface point, outward normal.
-  KOKKOS_INLINE_FUNCTION SurfacePoint<2, Real> surface_of(const Vec<2, Real>& x, const Vec<2, Real>& dr) const {
-    const Real rho = kmath::sqrt(norm2(dr));
-    const Vec<2, Real> outward = rho > Real(0) ? (Real(1) / rho) * dr : geometry_detail::unit_axis<2, Real>(0);
-    const Real distance = rho - radius_;
-    return {distance, x - distance * outward, outward};
-  }
-
-  // nearest(array, x), also calling visit(s) for the surface s of every obstacle of the array at
-  // signed distance < reach from x (for_each_within's order).
-  template <class Visit>
-  KOKKOS_INLINE_FUNCTION SurfacePoint<2, Real> nearest_within(int array, const Vec<2, Real>& x, Real reach,
-                                                              Visit&& visit) const {
-    for_each_within(array, x, reach + radius_, [&](const Vec<2, Real>& image) {
-      const SurfacePoint<2, Real> s = surface_of(x, x - image);
-      if (s.distance < reach) visit(s);
-    });
-    return nearest(array, x);
-  }
-
-  // Signed distance to the nearest obstacle's surface at x (any x: periodic images are taken), the
-  // nearest surface point and the normal there, pointing out of the obstacle. Ties go to the obstacle
-  // found first (inner rings first, cell order within a ring).
-  KOKKOS_INLINE_FUNCTION SurfacePoint<2, Real> nearest(const Vec<2, Real>& x) const {
-    int examined;
-    return nearest_examined(0, x, examined);
-  }
-
-  // nearest(x) among the obstacles of array `array` only (no_surface(x) if it has none).
-  KOKKOS_INLINE_FUNCTION SurfacePoint<2, Real> nearest(int array, const Vec<2, Real>& x) const {
-    int examined;
-    return nearest_examined(array, x, examined);
-  }
-
-  // nearest(x), also counting the obstacles whose distance it computed (the cost of the query).
-  KOKKOS_INLINE_FUNCTION SurfacePoint<2, Real> nearest_examined(const Vec<2, Real>& x, int& examined) const {
-    return nearest_examined(0, x, examined);
-  }
-
-  KOKKOS_INLINE_FUNCTION SurfacePoint<2, Real> nearest_examined(int array, const Vec<2, Real>& x,
-                                                                int& examined) const {
-    examined = 0;
-    if (num_obstacles_ == 0) return no_surface(x);
-    const int base = array * cells_per_array_;
-    if (cell_offset_(base) == cell_offset_(base + cells_per_array_)) return no_surface(x);
-    // Cell of x folded into the box, and the distance from x to that cell's nearest edge.
-    int home[2];
-    Real gap = min_width_;
-    Vec<2, Real> folded;  // x folded into the box
-    Real fraction[2];     // position of x within its home cell, in cell widths
-    for (int d = 0; d < 2; ++d) {
-      Real u = (x[d] - lo_[d]) * inv_width_[d];
-      u -= Real(n_[d]) * kmath::floor(u / Real(n_[d]));
-      folded[d] = lo_[d] + u / inv_width_[d];
-      const int c = int(kmath::floor(u));
-      home[d] = c < 0 ? 0 : (c >= n_[d] ? n_[d] - 1 : c);
-      const Real inside = u - Real(home[d]);
-      fraction[d] = inside;
-      const Real edge = (inside < Real(0.5) ? inside : Real(1) - inside) / inv_width_[d];
-      gap = edge < gap ? edge : gap;
-    }
-    gap = gap > Real(0) ? gap : Real(0);
-
-    Real best_r2 = Kokkos::reduction_identity<Real>::min();
-    Vec<2, Real> best_dr = Vec<2, Real>::zero();
-    // Ring k: the cells whose offset from home has Chebyshev norm k, offsets clipped per axis to
-    // [−⌊(n−1)/2⌋, ⌊n/2⌋] so that every cell is visited once. Every image of a centre in ring k lies
-    // at least (k − 1)·width + gap from x.
-    for (int k = 0; k <= max_ring_; ++k) {
-      if (k > 0) {
-        const Real reach = Real(k - 1) * min_width_ + gap;
-        if (reach * reach > best_r2) break;
-      }
-      int lo[2], hi[2];
-      for (int d = 0; d < 2; ++d) {
-        const int below = (n_[d] - 1) / 2, above = n_[d] / 2;
-        lo[d] = k < below ? -k : -below;
-        hi[d] = k < above ? k : above;
-      }
-      for (int oy = lo[1]; oy <= hi[1]; ++oy) {
-        if (oy == -k || oy == k) {
-          for (int ox = lo[0]; ox <= hi[0]; ++ox) scan_cell(base, folded, home, fraction, ox, oy, best_r2, best_dr, examined);
-        } else {
-          if (lo[0] == -k) scan_cell(base, folded, home, fraction, -k, oy, best_r2, best_dr, examined);
-          if (hi[0] == k) scan_cell(base, folded, home, fraction, k, oy, best_r2, best_dr, examined);
-        }
-      }
-    }
-    const Real rho = kmath::sqrt(best_r2);
-    const Vec<2, Real> outward = rho > Real(0) ? (Real(1) / rho) * best_dr : geometry_detail::unit_axis<2, Real>(0);
-    const Real distance = rho - radius_;
-    return {distance, x - distance * outward, outward};
-  }
-
  private:
-  // Minimum-image separations from x to the centres of the cell at offset (ox, oy) from home; keeps
-  // the shortest (the first of equals).
-  KOKKOS_INLINE_FUNCTION void scan_cell(int base, const Vec<2, Real>& x, const int (&home)[2], const Real (&fraction)[2],
-                                        int ox, int oy, Real& best_r2, Vec<2, Real>& best_dr, int& examined) const {
-    // The cell `o` cells from home, wrapped once (|o| < n), and the image shift of its centres.
-    // While (|o| + 1) cells fit in half the box on both axes that image is the minimum image;
-    // beyond, each centre gets the minimum image explicitly (small boxes, far rings).
-    const int offset[2] = {ox, oy};
-    int c[2];
-    Vec<2, Real> image = x;  // x moved by minus the shift, so dr = image − centre
-    bool nearest_image = true;
-    for (int d = 0; d < 2; ++d) {
-      c[d] = home[d] + offset[d];
-      if (c[d] < 0) {
-        c[d] += n_[d];
-        image[d] += length_[d];
-      } else if (c[d] >= n_[d]) {
-        c[d] -= n_[d];
-        image[d] -= length_[d];
-      }
-      const int reach = offset[d] < 0 ? 1 - offset[d] : 1 + offset[d];
-      nearest_image = nearest_image && 2 * reach <= n_[d];
-    }
-    if (nearest_image) {  // skip a cell whose every point is farther than the best centre so far
-      Real gap2 = 0;
-      for (int d = 0; d < 2; ++d) {
-        const Real cells = offset[d] < 0 ? fraction[d] - Real(offset[d] + 1)
-                                         : (offset[d] > 0 ? Real(offset[d]) - fraction[d] : Real(0));
-        const Real g = cells / inv_width_[d];
-        gap2 += g * g;
-      }
-      if (gap2 >= best_r2) return;
-    }
-    const int k = base + c[0] + n_[0] * c[1];
-    for (int s = cell_offset_(k); s < cell_offset_(k + 1); ++s) {
-      Vec<2, Real> dr{{image[0] - centers_(s, 0), image[1] - centers_(s, 1)}};
-      if (!nearest_image)
-        for (int d = 0; d < 2; ++d) dr[d] -= length_[d] * kmath::floor(dr[d] * inv_length_[d] + Real(0.5));
-      const Real r2 = norm2(dr);
-      ++examined;
-      if (r2 < best_r2) {
-        best_r2 = r2;
-        best_dr = dr;
-      }
-    }
-  }
-
   void home_cell(const Vec<2, Real>& folded, int (&c)[2]) const {
     for (int d = 0; d < 2; ++d) {
       const int k = int(std::floor((folded[d] - lo_[d]) * inv_width_[d]));
@@ -629,19 +664,19 @@ class ObstacleArray {
     }
   }
 
-  int num_arrays_ = 1;
-  int num_obstacles_ = 0;
-  int cells_per_array_ = 1;
-  Real radius_ = 0;
-  int n_[2] = {1, 1};
-  Real lo_[2] = {};
-  Real length_[2] = {Real(1), Real(1)};
-  Real inv_length_[2] = {Real(1), Real(1)};
-  Real inv_width_[2] = {Real(1), Real(1)};
-  Real min_width_ = Real(1);
-  int max_ring_ = 0;
-  offset_view cell_offset_;
-  center_view centers_;
+  using Query::num_arrays_;
+  using Query::num_obstacles_;
+  using Query::cells_per_array_;
+  using Query::radius_;
+  using Query::n_;
+  using Query::lo_;
+  using Query::length_;
+  using Query::inv_length_;
+  using Query::inv_width_;
+  using Query::min_width_;
+  using Query::max_ring_;
+  offset_view cell_offset_owner_;  // the allocations the query's pointers point into
+  center_view centers_owner_;
   Kokkos::View<int*, Kokkos::HostSpace> array_first_;  // first obstacle of each array, and the total
 };
 

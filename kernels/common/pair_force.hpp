@@ -45,6 +45,7 @@
 // split, which makes its energy reduction reproducible at a fixed thread count.
 #pragma once
 
+#include "kernel_launch.hpp"
 #include "box.hpp"
 #include "kokkos_compat.hpp"
 #include "neighbor_list.hpp"
@@ -89,7 +90,7 @@ template <class Tag, int D, class Real, class ExecSpace, class Positions, class 
 struct Rows {
   NeighborData<ExecSpace> nbr;
   Positions x;
-  Box<D, Real> box;
+  PeriodicImages<D, Real> box;  // the box's image convention (56 bytes in 3D double, not the Box)
   Evaluator ev;
   bool inner_only;
 
@@ -197,7 +198,7 @@ Rows<Tag, D, Real, ExecSpace, Positions, Evaluator> rows(const NeighborList<D, R
     throw std::invalid_argument(std::string("pair loop: the evaluator runs on a ") +
                                 (kind_of<Tag>() == NeighborListKind::full ? "full" : "half") +
                                 " list, got the other kind");
-  return {list.data(), x, box, ev, which == PairRows::inner && list.inner_cutoff() > Real(0)};
+  return {list.data(), x, box.images(), ev, which == PairRows::inner && list.inner_cutoff() > Real(0)};
 }
 
 }  // namespace pair_loop_detail
@@ -213,9 +214,9 @@ void for_each_pair(const std::string& label, Tag, const NeighborList<D, Real, Ex
   const pair_loop_detail::ForFunctor<Body> f{pair_loop_detail::rows<Tag>(list, box, x, ev, which)};
   const int n = int(x.extent(0));
   if constexpr (std::is_same<Schedule, Kokkos::Dynamic>::value)
-    Kokkos::parallel_for(label, Kokkos::RangePolicy<ExecSpace, Kokkos::Schedule<Kokkos::Dynamic>>(0, n).set_chunk_size(64), f);
+    mesoflow::launch::parallel_for(label, Kokkos::RangePolicy<ExecSpace, Kokkos::Schedule<Kokkos::Dynamic>>(0, n).set_chunk_size(64), f);
   else
-    Kokkos::parallel_for(label, Kokkos::RangePolicy<ExecSpace>(0, n), f);
+    mesoflow::launch::parallel_for(label, Kokkos::RangePolicy<ExecSpace>(0, n), f);
 }
 
 // for_each_pair with a statically scheduled double reduction (reproducible at a fixed thread count):
@@ -226,7 +227,7 @@ double reduce_pairs(const std::string& label, Tag, const NeighborList<D, Real, E
   using Body = pair_loop_detail::Rows<Tag, D, Real, ExecSpace, Positions, Evaluator>;
   const pair_loop_detail::ReduceFunctor<Body> f{pair_loop_detail::rows<Tag>(list, box, x, ev, which)};
   double result = 0;
-  Kokkos::parallel_reduce(label, Kokkos::RangePolicy<ExecSpace>(0, int(x.extent(0))), f, result);
+  mesoflow::launch::parallel_reduce(label, Kokkos::RangePolicy<ExecSpace>(0, int(x.extent(0))), f, result);
   return result;
 }
 

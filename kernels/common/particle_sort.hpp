@@ -13,6 +13,7 @@
 // renumber_particle_indices() maps every entry of an index view through it.
 #pragma once
 
+#include "kernel_launch.hpp"
 #include "cell_list.hpp"
 #include "kokkos_compat.hpp"
 #include "particles.hpp"
@@ -31,19 +32,19 @@ void permute(const View& a, const OrderView& order) {
   const int n = int(a.extent(0));
   View scratch(Kokkos::ViewAllocateWithoutInitializing(a.label() + "::sort_scratch"), a.layout());
   if constexpr (View::rank == 1) {
-    Kokkos::parallel_for(
+    mesoflow::launch::parallel_for(
         "mesoflow::particle_sort::gather", Kokkos::RangePolicy<exec>(0, n),
         KOKKOS_LAMBDA(int s) { scratch(s) = a(order(s)); });
-    Kokkos::parallel_for(
+    mesoflow::launch::parallel_for(
         "mesoflow::particle_sort::copy_back", Kokkos::RangePolicy<exec>(0, n),
         KOKKOS_LAMBDA(int s) { a(s) = scratch(s); });
   } else {
     const int cols = int(a.extent(1));
-    Kokkos::parallel_for(
+    mesoflow::launch::parallel_for(
         "mesoflow::particle_sort::gather", Kokkos::RangePolicy<exec>(0, n), KOKKOS_LAMBDA(int s) {
           for (int d = 0; d < cols; ++d) scratch(s, d) = a(order(s), d);
         });
-    Kokkos::parallel_for(
+    mesoflow::launch::parallel_for(
         "mesoflow::particle_sort::copy_back", Kokkos::RangePolicy<exec>(0, n), KOKKOS_LAMBDA(int s) {
           for (int d = 0; d < cols; ++d) a(s, d) = scratch(s, d);
         });
@@ -79,7 +80,7 @@ void invert_permutation(const OrderView& order, const IndexView& new_index) {
   if (order.extent(0) != new_index.extent(0))
     throw std::invalid_argument("invert_permutation: a permutation of " + std::to_string(order.extent(0)) +
                                 " into a view of " + std::to_string(new_index.extent(0)));
-  Kokkos::parallel_for(
+  mesoflow::launch::parallel_for(
       "mesoflow::particle_sort::invert_permutation", Kokkos::RangePolicy<exec>(0, int(order.extent(0))),
       KOKKOS_LAMBDA(int s) { new_index(order(s)) = s; });
 }
@@ -90,12 +91,12 @@ void renumber_particle_indices(const IndexView& a, const NewIndexView& new_index
   using exec = typename IndexView::execution_space;
   const int n = int(a.extent(0));
   if constexpr (IndexView::rank == 1) {
-    Kokkos::parallel_for(
+    mesoflow::launch::parallel_for(
         "mesoflow::particle_sort::renumber", Kokkos::RangePolicy<exec>(0, n),
         KOKKOS_LAMBDA(int r) { a(r) = new_index(a(r)); });
   } else {
     const int cols = int(a.extent(1));
-    Kokkos::parallel_for(
+    mesoflow::launch::parallel_for(
         "mesoflow::particle_sort::renumber", Kokkos::RangePolicy<exec>(0, n), KOKKOS_LAMBDA(int r) {
           for (int c = 0; c < cols; ++c) a(r, c) = new_index(a(r, c));
         });

@@ -1,6 +1,7 @@
 // particles.hpp — structure-of-arrays particle storage in Kokkos Views.
 #pragma once
 
+#include "kernel_launch.hpp"
 #include "kokkos_compat.hpp"
 
 #include <cstddef>
@@ -47,7 +48,7 @@ struct Particles {
   // f ← 0 before the force terms of a step add to it (a kernel, not a host transfer).
   void zero_forces() const {
     const auto f_ = f;
-    Kokkos::parallel_for(
+    mesoflow::launch::parallel_for(
         "mesoflow::particles::zero_forces", Kokkos::RangePolicy<ExecSpace>(0, size()), KOKKOS_LAMBDA(int i) {
           for (int d = 0; d < D; ++d) f_(i, d) = Real(0);
         });

@@ -6,6 +6,7 @@
 // Kokkos::Random_XorShift64_Pool helper at the end is for initial conditions only.
 #pragma once
 
+#include "kernel_launch.hpp"
 #include "kokkos_compat.hpp"
 
 #include <Kokkos_Random.hpp>
@@ -231,7 +232,7 @@ void fill_uniform_counter(const View& x, const Real (&lo)[D], const Real (&hi)[D
     lower[d] = static_cast<value_type>(lo[d]);
     upper[d] = static_cast<value_type>(hi[d]);
   }
-  Kokkos::parallel_for(
+  mesoflow::launch::parallel_for(
       "mesoflow::random::fill_uniform_counter",
       Kokkos::RangePolicy<typename View::execution_space>(0, x.extent(0)),
       KOKKOS_LAMBDA(const std::size_t i) {
@@ -253,7 +254,7 @@ void fill_uniform(const View& v, typename View::const_value_type lo,
   using pool_type = Kokkos::Random_XorShift64_Pool<exec>;
   using draw_type = Kokkos::rand<typename pool_type::generator_type, value_type>;
   pool_type pool(seed);
-  Kokkos::parallel_for(
+  mesoflow::launch::parallel_for(
       "mesoflow::random::fill_uniform", Kokkos::RangePolicy<exec>(0, v.extent(0)),
       KOKKOS_LAMBDA(const std::size_t i) {
         auto generator = pool.get_state();

@@ -3,6 +3,7 @@
 // Kokkos' static-schedule reductions, so they are deterministic at a fixed thread count.
 #pragma once
 
+#include "kernel_launch.hpp"
 #include "box.hpp"
 #include "kokkos_compat.hpp"
 #include "particles.hpp"
@@ -35,7 +36,7 @@ struct SumArrayFunctor {
 template <int N, class ExecSpace, class Body>
 std::array<double, N> parallel_sum(const std::string& label, int n, const Body& body) {
   SumArray<N> result;
-  Kokkos::parallel_reduce(label, Kokkos::RangePolicy<ExecSpace>(0, n), SumArrayFunctor<N, Body>{body},
+  mesoflow::launch::parallel_reduce(label, Kokkos::RangePolicy<ExecSpace>(0, n), SumArrayFunctor<N, Body>{body},
                           result);
   std::array<double, N> out;
   for (int k = 0; k < N; ++k) out[k] = result.v[k];
@@ -48,7 +49,7 @@ double kinetic_energy(const Particles<D, Real, ExecSpace>& p) {
   auto v = p.v;
   auto m = p.mass;
   double ke = 0.0;
-  Kokkos::parallel_reduce(
+  mesoflow::launch::parallel_reduce(
       "mesoflow::reductions::kinetic_energy", Kokkos::RangePolicy<ExecSpace>(0, p.size()),
       KOKKOS_LAMBDA(int i, double& acc) {
         double v2 = 0.0;
@@ -94,7 +95,7 @@ template <int D, class Real, class ExecSpace, class RefView>
 Real max_displacement(const typename Particles<D, Real, ExecSpace>::vector_view& x, const RefView& x_ref,
                       const Box<D, Real>& box) {
   Real max_d2 = 0;
-  Kokkos::parallel_reduce(
+  mesoflow::launch::parallel_reduce(
       "mesoflow::reductions::max_displacement", Kokkos::RangePolicy<ExecSpace>(0, x.extent(0)),
       KOKKOS_LAMBDA(int i, Real& acc) {
         Vec<D, Real> dr;

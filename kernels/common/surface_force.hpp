@@ -21,6 +21,7 @@
 // writes only its own force: deterministic at any thread count, no atomics.
 #pragma once
 
+#include "kernel_launch.hpp"
 #include "kokkos_compat.hpp"
 #include "obstacle_array.hpp"
 #include "particles.hpp"
@@ -143,7 +144,7 @@ double accumulate_surface_forces(const Query& surfaces, const Particles<2, Real,
   const auto term_list = surface_force_detail::make_term_list(terms...);
   const Kernel kernel{surfaces, p.x, velocity, p.f, term_list, term_list.template reach<Real>()};
   double energy = 0;
-  Kokkos::parallel_reduce("mesoflow::surface_force::accumulate", Kokkos::RangePolicy<ExecSpace>(0, p.size()), kernel,
+  mesoflow::launch::parallel_reduce("mesoflow::surface_force::accumulate", Kokkos::RangePolicy<ExecSpace>(0, p.size()), kernel,
                           energy);
   return energy;
 }

@@ -15,6 +15,7 @@
 // purely conservative forces every λ reduces to standard, time-reversible velocity Verlet.
 #pragma once
 
+#include "kernel_launch.hpp"
 #include "box.hpp"
 #include "kokkos_compat.hpp"
 #include "particles.hpp"
@@ -43,7 +44,7 @@ class VelocityVerlet {
     const auto m = p.mass;
     const Real half_dt = Real(0.5) * dt_, dt = dt_;
     if (lambda_ == Real(0.5)) {
-      Kokkos::parallel_for(
+      mesoflow::launch::parallel_for(
           "mesoflow::velocity_verlet::first_half", Kokkos::RangePolicy<ExecSpace>(0, p.size()),
           KOKKOS_LAMBDA(int i) {
             const Real inv_m = Real(1) / m(i);
@@ -58,7 +59,7 @@ class VelocityVerlet {
       v_pred_ = vector_view(Kokkos::ViewAllocateWithoutInitializing("mesoflow::velocity_verlet::v_pred"), p.size());
     const auto vp = v_pred_;
     const Real predict_dt = lambda_ * dt_;
-    Kokkos::parallel_for(
+    mesoflow::launch::parallel_for(
         "mesoflow::velocity_verlet::first_half_predict", Kokkos::RangePolicy<ExecSpace>(0, p.size()),
         KOKKOS_LAMBDA(int i) {
           const Real inv_m = Real(1) / m(i);
@@ -80,7 +81,7 @@ class VelocityVerlet {
     const auto v = p.v, f = p.f;
     const auto m = p.mass;
     const Real half_dt = Real(0.5) * dt_;
-    Kokkos::parallel_for(
+    mesoflow::launch::parallel_for(
         "mesoflow::velocity_verlet::second_half", Kokkos::RangePolicy<ExecSpace>(0, p.size()),
         KOKKOS_LAMBDA(int i) {
           const Real inv_m = Real(1) / m(i);
@@ -97,7 +98,7 @@ class VelocityVerlet {
 template <int D, class Real, class ExecSpace>
 void wrap_positions(const Particles<D, Real, ExecSpace>& p, const Box<D, Real>& box) {
   const auto x = p.x;
-  Kokkos::parallel_for(
+  mesoflow::launch::parallel_for(
       "mesoflow::box::wrap_positions", Kokkos::RangePolicy<ExecSpace>(0, p.size()), KOKKOS_LAMBDA(int i) {
         Vec<D, Real> xi = Vec<D, Real>::load(x, i);
         box.wrap(xi);

@@ -10,6 +10,7 @@
 // vertices unfolded (neighbor and cell lists apply the minimum image and fold on their own).
 #pragma once
 
+#include "../common/kernel_launch.hpp"
 #include "kernels/common/kokkos_compat.hpp"
 #include "kernels/common/particles.hpp"
 #include "kernels/common/vec.hpp"
@@ -208,7 +209,7 @@ void update_body_state(const Polygons<Real, ExecSpace>& polygons, const Particle
   const auto com = state.com;
   const auto com_velocity = state.com_velocity;
   const auto kinetic_energy = state.kinetic_energy;
-  Kokkos::parallel_for(
+  mesoflow::launch::parallel_for(
       "mesoflow::dp::body_state", Kokkos::RangePolicy<ExecSpace>(0, polygons.num_bodies()),
       KOKKOS_LAMBDA(int b) {
         const int begin = offset(b), end = offset(b + 1);

@@ -17,6 +17,7 @@
 // backend and thread count, with no atomics; energies are summed in double.
 #pragma once
 
+#include "../common/kernel_launch.hpp"
 #include "polygons.hpp"
 #include "vertex_stencil.hpp"
 
@@ -83,7 +84,7 @@ double vertex_loop(const char* label, const Polygons<Real, ExecSpace>& polygons,
   const auto f = p.f;
   const auto mass = p.mass;
   double energy = 0;
-  Kokkos::parallel_reduce(
+  mesoflow::launch::parallel_reduce(
       label, Kokkos::RangePolicy<ExecSpace>(0, polygons.num_vertices()),
       KOKKOS_LAMBDA(int i, double& e_acc) {
         const int b = body_of(i);

@@ -16,6 +16,7 @@
 // bodies, cheap enough to run every hundred steps.
 #pragma once
 
+#include "../common/kernel_launch.hpp"
 #include "polygons.hpp"
 
 #include "kernels/common/kokkos_compat.hpp"
@@ -30,7 +31,7 @@ double measure_area_gradient_squared(const Polygons<Real, ExecSpace>& polygons,
   const auto offset = polygons.offset;
   const auto x = p.x;
   double largest_sum = 0;
-  Kokkos::parallel_reduce(
+  mesoflow::launch::parallel_reduce(
       "mesoflow::dp::area_gradient_squared", Kokkos::RangePolicy<ExecSpace>(0, polygons.num_bodies()),
       KOKKOS_LAMBDA(const int b, double& largest) {
         const int begin = offset(b), n = offset(b + 1) - begin;

@@ -17,6 +17,7 @@
 // edge plus the widest δ_mn (checked: `smooth_contact_reach`). Returns the energy.
 #pragma once
 
+#include "../common/kernel_launch.hpp"
 #include "kernels/common/box.hpp"
 #include "kernels/common/kokkos_compat.hpp"
 #include "kernels/common/neighbor_list.hpp"
@@ -69,7 +70,7 @@ Real smooth_contact_reach(const Polygons<Real, ExecSpace>& polygons, const Parti
   const auto body = polygons.body;
   const auto x = p.x;
   Real longest = 0;
-  Kokkos::parallel_reduce(
+  mesoflow::launch::parallel_reduce(
       "mesoflow::dp::smooth_contact_reach", Kokkos::RangePolicy<ExecSpace>(0, polygons.num_vertices()),
       KOKKOS_LAMBDA(int i, Real& acc) {
         const int b = body(i), begin = offset(b), n = offset(b + 1) - begin;

@@ -12,6 +12,7 @@
 // left alone. Each vertex writes its own force (adds, never overwrites).
 #pragma once
 
+#include "../common/kernel_launch.hpp"
 #include "polygons.hpp"
 
 #include "kernels/common/kokkos_compat.hpp"
@@ -38,7 +39,7 @@ void accumulate_vertex_drag(Real zeta, const Polygons<Real, ExecSpace>& polygons
   const auto body = polygons.body;
   const auto v = velocity;
   const auto f = p.f;
-  Kokkos::parallel_for(
+  mesoflow::launch::parallel_for(
       "mesoflow::dp::vertex_drag", Kokkos::RangePolicy<ExecSpace>(0, polygons.num_vertices()), KOKKOS_LAMBDA(int i) {
         const int b = body(i);
         const Real c = -zeta / Real(offset(b + 1) - offset(b));

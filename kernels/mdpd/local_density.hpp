@@ -11,6 +11,7 @@
 // through a ScatterView (thread-duplicated on OpenMP, atomic on GPUs).
 #pragma once
 
+#include "../common/kernel_launch.hpp"
 #include "density_weight.hpp"
 #include "packed_state.hpp"
 #include "kernels/common/box.hpp"
@@ -76,7 +77,7 @@ class LocalDensity {
       return;
     }
     const auto w = weight_;
-    Kokkos::parallel_for(
+    mesoflow::launch::parallel_for(
         "mesoflow::mdpd::density_self", Kokkos::RangePolicy<ExecSpace>(0, xr.extent(0)),
         KOKKOS_LAMBDA(int i) { rho(i) = w.self; });
     ev.rho_scatter = scatter_.prepare(rho);

@@ -18,6 +18,7 @@
 // the drag on pillars and walls (paper eq. 3 and Fig. 13).
 #pragma once
 
+#include "../common/kernel_launch.hpp"
 #include "conservative_force.hpp"
 #include "dissipative_random_force.hpp"
 #include "kernels/common/box.hpp"
@@ -79,16 +80,18 @@ struct MdpdPairEvaluator : PairEvaluatorTraits {
   LennardJones<Real> wca;
   Real rA2;
   bool core, record;
-  rows_view xr, vr;
-  Kokkos::View<int*, ExecSpace> type;
-  Kokkos::View<std::uint32_t*, ExecSpace> tag;
+  // Read-only inputs as pointers into their Views (the closure stays under
+  // max_kernel_closure_bytes, kernels/common/kernel_launch.hpp): rows are LayoutRight, packed_width wide.
+  PackedRowsRef<Real> xr, vr;
+  const int* type;
+  const std::uint32_t* tag;
   std::uint64_t step;
   rows_view fr;
   vector_view drag;
   typename rows_scatter::scatter_view fr_scatter;           // half lists only
   typename drag_scatter_type::scatter_view drag_scatter;  // half lists with `record` only
 
-  KOKKOS_INLINE_FUNCTION Vec<D, Real> row_vector(const rows_view& rows, int i) const {
+  KOKKOS_INLINE_FUNCTION Vec<D, Real> row_vector(const PackedRowsRef<Real>& rows, int i) const {
     Vec<D, Real> r;
     for (int d = 0; d < D; ++d) r[d] = rows(i, d);
     return r;
@@ -111,15 +114,15 @@ struct MdpdPairEvaluator : PairEvaluatorTraits {
   };
 
   KOKKOS_INLINE_FUNCTION FullRow begin(FullList, int i) const {
-    return {row_vector(vr, i), core || record ? type(i) : 0, xr(i, rho_column), tag(i), Vec<D, Real>::zero(),
+    return {row_vector(vr, i), core || record ? type[i] : 0, xr(i, rho_column), tag[i], Vec<D, Real>::zero(),
             Vec<D, Real>::zero()};
   }
   KOKKOS_INLINE_FUNCTION void operator()(FullList, FullRow& s, int, int j, const Vec<D, Real>& dr, Real r2,
                                          double&) const {
-    const int tj = core || record ? type(j) : 0;
+    const int tj = core || record ? type[j] : 0;
     Real f_over_r;
     if (mdpd_pair<Thermo>(cons, thermo, wca, rA2, core, dr, r2, s.ti, tj, s.rho_i, xr(j, rho_column),
-                          Thermo ? s.vi - row_vector(vr, j) : s.vi, step, s.tag_i, tag(j), f_over_r)) {
+                          Thermo ? s.vi - row_vector(vr, j) : s.vi, step, s.tag_i, tag[j], f_over_r)) {
       s.fi += f_over_r * dr;
       if (record && tj == particle_type::fluid) s.from_fluid += f_over_r * dr;
     }
@@ -131,15 +134,15 @@ struct MdpdPairEvaluator : PairEvaluatorTraits {
   }
 
   KOKKOS_INLINE_FUNCTION HalfRow begin(HalfList, int i) const {
-    return {fr_scatter.access(), row_vector(vr, i), core || record ? type(i) : 0, xr(i, rho_column), tag(i),
+    return {fr_scatter.access(), row_vector(vr, i), core || record ? type[i] : 0, xr(i, rho_column), tag[i],
             Vec<D, Real>::zero()};
   }
   KOKKOS_INLINE_FUNCTION void operator()(HalfList, HalfRow& s, int i, int j, const Vec<D, Real>& dr, Real r2,
                                          double&) const {
-    const int tj = core || record ? type(j) : 0;
+    const int tj = core || record ? type[j] : 0;
     Real f_over_r;
     if (mdpd_pair<Thermo>(cons, thermo, wca, rA2, core, dr, r2, s.ti, tj, s.rho_i, xr(j, rho_column),
-                          Thermo ? s.vi - row_vector(vr, j) : s.vi, step, s.tag_i, tag(j), f_over_r)) {
+                          Thermo ? s.vi - row_vector(vr, j) : s.vi, step, s.tag_i, tag[j], f_over_r)) {
       const Vec<D, Real> fij = f_over_r * dr;
       s.fi += fij;
       for (int d = 0; d < D; ++d) s.access(j, d) -= fij[d];
@@ -187,10 +190,10 @@ class MdpdPairForce {
     const bool full_list = list.kind() == NeighborListKind::full;
     if (thermostat_.active()) {
       auto ev = evaluator<true>(xr, vr, type, tag, step, has_core, fr, solid_drag, record);
-      full_list ? full(ev, list, box) : half(ev, list, box);
+      full_list ? full(ev, xr, list, box) : half(ev, xr, list, box);
     } else {
       auto ev = evaluator<false>(xr, vr, type, tag, step, has_core, fr, solid_drag, record);
-      full_list ? full(ev, list, box) : half(ev, list, box);
+      full_list ? full(ev, xr, list, box) : half(ev, xr, list, box);
     }
   }
 
@@ -201,31 +204,33 @@ class MdpdPairForce {
                                                           const type_view& type, const tag_view& tag,
                                                           std::uint64_t step, bool has_core, const rows_view& fr,
                                                           const vector_view& drag, bool record) const {
-    return {{}, conservative_, thermostat_, wca_, rA2_, has_core, record, xr, vr, type, tag, step, fr, drag, {}, {}};
+    return {{}, conservative_, thermostat_, wca_, rA2_, has_core, record, {xr.data()}, {vr.data()}, type.data(), tag.data(),
+            step, fr, drag, {}, {}};
   }
 
   template <class Evaluator>
-  void full(const Evaluator& ev, const NeighborList<D, Real, ExecSpace>& list, const Box<D, Real>& box) {
-    for_each_pair("mesoflow::mdpd::pair_force_full", FullList{}, list, box, ev.xr, ev);
+  void full(const Evaluator& ev, const rows_view& xr, const NeighborList<D, Real, ExecSpace>& list,
+            const Box<D, Real>& box) {
+    for_each_pair("mesoflow::mdpd::pair_force_full", FullList{}, list, box, xr, ev);
   }
 
   template <class Evaluator>
-  void half(Evaluator ev, const NeighborList<D, Real, ExecSpace>& list, const Box<D, Real>& box) {
+  void half(Evaluator ev, const rows_view& xr, const NeighborList<D, Real, ExecSpace>& list, const Box<D, Real>& box) {
     const auto fr = ev.fr;
-    Kokkos::parallel_for(
+    mesoflow::launch::parallel_for(
         "mesoflow::mdpd::zero_pair_forces", Kokkos::RangePolicy<ExecSpace>(0, fr.extent(0)), KOKKOS_LAMBDA(int i) {
           for (int d = 0; d < packed_width; ++d) fr(i, d) = Real(0);
         });
     ev.fr_scatter = scatter_.prepare(fr);
     if (ev.record) {
       const auto drag = ev.drag;
-      Kokkos::parallel_for(
+      mesoflow::launch::parallel_for(
           "mesoflow::mdpd::zero_solid_drag", Kokkos::RangePolicy<ExecSpace>(0, drag.extent(0)), KOKKOS_LAMBDA(int i) {
             for (int d = 0; d < D; ++d) drag(i, d) = Real(0);
           });
       ev.drag_scatter = drag_scatter_.prepare(drag);
     }
-    for_each_pair("mesoflow::mdpd::pair_force_half", HalfList{}, list, box, ev.xr, ev);
+    for_each_pair("mesoflow::mdpd::pair_force_half", HalfList{}, list, box, xr, ev);
     scatter_.contribute(fr);
     if (ev.record) drag_scatter_.contribute(ev.drag);
   }

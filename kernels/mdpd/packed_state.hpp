@@ -6,6 +6,7 @@
 // package packs x the same way for its pair styles).
 #pragma once
 
+#include "../common/kernel_launch.hpp"
 #include "kernels/common/particles.hpp"
 
 namespace mesoflow::mdpd {
@@ -18,10 +19,17 @@ enum : int { rho_column = 3 };
 template <class Real, class ExecSpace>
 using PackedRows = Kokkos::View<Real* [packed_width], Kokkos::LayoutRight, ExecSpace>;
 
+// Read access to PackedRows through a pointer (8 bytes in a kernel's closure instead of a View's 32).
+template <class Real>
+struct PackedRowsRef {
+  const Real* data;
+  KOKKOS_INLINE_FUNCTION Real operator()(int i, int column) const { return data[i * packed_width + column]; }
+};
+
 // rows(i, 0…D−1) ← a(i, 0…D−1).
 template <int D, class Real, class ExecSpace, class Source>
 void pack_vectors(const Source& a, const PackedRows<Real, ExecSpace>& rows) {
-  Kokkos::parallel_for(
+  mesoflow::launch::parallel_for(
       "mesoflow::mdpd::pack_vectors", Kokkos::RangePolicy<ExecSpace>(0, a.extent(0)), KOKKOS_LAMBDA(int i) {
         for (int d = 0; d < D; ++d) rows(i, d) = a(i, d);
       });

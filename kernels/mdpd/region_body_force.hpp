@@ -4,6 +4,7 @@
 // L_d = box length drives every fluid particle (periodic Poiseuille flow).
 #pragma once
 
+#include "../common/kernel_launch.hpp"
 #include "kernels/common/box.hpp"
 #include "kernels/common/particles.hpp"
 #include "particle_types.hpp"
@@ -37,7 +38,7 @@ void add_region_body_force(const Particles<D, Real, ExecSpace>& p, const Driving
   const auto x = p.x, f = p.f;
   const auto type = p.type;
   const Real Lx = box.length[0];
-  Kokkos::parallel_for(
+  mesoflow::launch::parallel_for(
       "mesoflow::mdpd::region_body_force", Kokkos::RangePolicy<ExecSpace>(0, p.size()), KOKKOS_LAMBDA(int i) {
         if (type(i) == particle_type::fluid && region.contains(x(i, 0), Lx)) f(i, 0) += region.force;
       });
@@ -61,7 +62,7 @@ void add_split_body_force(const Particles<D, Real, ExecSpace>& p, const SplitBod
   const auto x = p.x, f = p.f;
   const auto type = p.type;
   const Real lo = box.lo[D - 1], L = box.length[D - 1], g = split.force;
-  Kokkos::parallel_for(
+  mesoflow::launch::parallel_for(
       "mesoflow::mdpd::split_body_force", Kokkos::RangePolicy<ExecSpace>(0, p.size()), KOKKOS_LAMBDA(int i) {
         if (type(i) != particle_type::fluid) return;
         Real s = (x(i, D - 1) - lo) / L;

@@ -4,6 +4,7 @@
 // for solid particles only; fluid particles have no site.
 #pragma once
 
+#include "../common/kernel_launch.hpp"
 #include "kernels/common/box.hpp"
 #include "kernels/common/particles.hpp"
 #include "particle_types.hpp"
@@ -31,7 +32,7 @@ class TetherSprings {
     const auto x = p.x, f = p.f;
     const auto type = p.type;
     const Real k = k_;
-    Kokkos::parallel_for(
+    mesoflow::launch::parallel_for(
         "mesoflow::mdpd::tether_springs", Kokkos::RangePolicy<ExecSpace>(0, p.size()), KOKKOS_LAMBDA(int i) {
           if (!is_solid(type(i))) return;
           Vec<D, Real> dr = Vec<D, Real>::load(x, i) - Vec<D, Real>::load(site, i);
@@ -45,7 +46,7 @@ class TetherSprings {
     const auto type = p.type;
     const double k = k_;
     double e = 0;
-    Kokkos::parallel_reduce(
+    mesoflow::launch::parallel_reduce(
         "mesoflow::mdpd::tether_energy", Kokkos::RangePolicy<ExecSpace>(0, p.size()),
         KOKKOS_LAMBDA(int i, double& acc) {
           if (!is_solid(type(i))) return;

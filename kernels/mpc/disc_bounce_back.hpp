@@ -23,6 +23,7 @@
 // through a wall, are not treated (the step moves particles by h|v| ≪ R and ≪ the gaps).
 #pragma once
 
+#include "../common/kernel_launch.hpp"
 #include "kernels/common/kokkos_compat.hpp"
 #include "kernels/common/vec.hpp"
 #include "kernels/mpc/rigid_discs.hpp"
@@ -95,7 +96,7 @@ class DiscBounceBack {
     const auto U = discs.u;
     const auto W = discs.omega;
     const Real radius = discs.radius(), m = mass_;
-    Kokkos::parallel_for(
+    mesoflow::launch::parallel_for(
         "mesoflow::mpc::disc_bounce_back", Kokkos::RangePolicy<ExecSpace>(0, x.extent(0)), KOKKOS_LAMBDA(int i) {
           const Vec<2, Real> xi = Vec<2, Real>::load(x, i);
           int hit = -1;

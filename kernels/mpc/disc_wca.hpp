@@ -11,6 +11,7 @@
 // depend on the thread count. The forces are central: no torque.
 #pragma once
 
+#include "../common/kernel_launch.hpp"
 #include "kernels/common/kokkos_compat.hpp"
 #include "kernels/common/vec.hpp"
 #include "kernels/mpc/rigid_discs.hpp"
@@ -94,7 +95,7 @@ void accumulate_disc_wca(const WcaPotential<Real>& wca, const RigidDiscs<Real, E
   const auto X = discs.x;
   const auto F = discs.force;
   const Real radius = discs.radius();
-  Kokkos::parallel_for(
+  mesoflow::launch::parallel_for(
       "mesoflow::mpc::disc_wca::forces", Kokkos::RangePolicy<ExecSpace>(0, discs.size()), KOKKOS_LAMBDA(int k) {
         double e = 0;
         const Vec<2, Real> f = wca_detail::disc_force<Real, ExecSpace>(k, wca, X, bins, radius, e);
@@ -110,7 +111,7 @@ double disc_wca_energy(const WcaPotential<Real>& wca, const RigidDiscs<Real, Exe
   const auto X = discs.x;
   const Real radius = discs.radius();
   double energy = 0;
-  Kokkos::parallel_reduce(
+  mesoflow::launch::parallel_reduce(
       "mesoflow::mpc::disc_wca::energy", Kokkos::RangePolicy<ExecSpace>(0, discs.size()),
       KOKKOS_LAMBDA(int k, double& acc) {
         wca_detail::disc_force<Real, ExecSpace>(k, wca, X, bins, radius, acc);

@@ -4,6 +4,7 @@
 // their mean so the total momentum is zero.
 #pragma once
 
+#include "../common/kernel_launch.hpp"
 #include "kernels/common/kokkos_compat.hpp"
 #include "kernels/common/random.hpp"
 #include "kernels/common/reductions.hpp"
@@ -57,7 +58,7 @@ void fill_maxwell_boltzmann(const Kokkos::View<Real* [D], Kokkos::LayoutLeft, Ex
   const int n = int(v.extent(0));
   if (n == 0) return;
   const Real speed = Real(std::sqrt(double(kT) / double(mass)));
-  Kokkos::parallel_for(
+  mesoflow::launch::parallel_for(
       "mesoflow::mpc::maxwell_boltzmann::draw", Kokkos::RangePolicy<ExecSpace>(0, n), KOKKOS_LAMBDA(const int i) {
         RandomStream rs(seed, 0, stream_tag::initial_condition, static_cast<std::uint32_t>(i), field);
         Real vi[D];
@@ -70,7 +71,7 @@ void fill_maxwell_boltzmann(const Kokkos::View<Real* [D], Kokkos::LayoutLeft, Ex
                                                 });
   Kokkos::Array<Real, D> mean;
   for (int d = 0; d < D; ++d) mean[d] = Real(total[d] / n);
-  Kokkos::parallel_for(
+  mesoflow::launch::parallel_for(
       "mesoflow::mpc::maxwell_boltzmann::remove_mean", Kokkos::RangePolicy<ExecSpace>(0, n),
       KOKKOS_LAMBDA(const int i) {
         for (int d = 0; d < D; ++d) v(i, d) -= mean[d];

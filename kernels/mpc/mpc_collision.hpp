@@ -34,6 +34,7 @@
 // RandomStream(seed, step, mpc_stream_tag::grid_shift, 0).
 #pragma once
 
+#include "../common/kernel_launch.hpp"
 #include "at_minus_a_collision.hpp"
 #include "at_plus_a_collision.hpp"
 #include "collision_grid.hpp"
@@ -44,11 +45,15 @@
 #include "kernels/common/kokkos_compat.hpp"
 #include "kernels/common/random.hpp"
 
+#include <Kokkos_Sort.hpp>
+
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 
 namespace mesoflow::mpc {
 
@@ -123,8 +128,6 @@ class MpcCollision {
         Kokkos::ViewAllocateWithoutInitializing("mesoflow::mpc::partial_sums"), std::size_t(num_chunks_) * cells * sums);
     cell_values_ = Kokkos::View<Real*, ExecSpace>(Kokkos::ViewAllocateWithoutInitializing("mesoflow::mpc::cell_values"),
                                                   cells * values);
-    sort_counts_ = Kokkos::View<int*, ExecSpace>(Kokkos::ViewAllocateWithoutInitializing("mesoflow::mpc::sort_counts"),
-                                                 std::size_t(num_chunks_) * cells);
     x_sorted_ = vector_view(Kokkos::ViewAllocateWithoutInitializing("mesoflow::mpc::x_sorted"), particle_capacity);
     v_sorted_ = vector_view(Kokkos::ViewAllocateWithoutInitializing("mesoflow::mpc::v_sorted"), particle_capacity);
   }
@@ -159,52 +162,54 @@ class MpcCollision {
     dispatch<true>(x, v, vector_view(), vector_view(), 0, step, h, g);
   }
 
-  // Reorders the real particles in memory by the cell they had in the last collision (a stable
-  // counting sort: by cell, then by index), so that the scattered cell sums and cell reads of the
-  // next collisions touch memory in order. A pure permutation of the rows of x and v, the same at
-  // any thread count; anything else indexed by particle is not permuted, so call it only where
-  // particles are anonymous (the solvent), every few tens of steps (LAMMPS' atom sorting). The
-  // scratch storage is allocated with the class.
+  // Reorders the real particles in memory by the cell they had in the last collision (by cell, then
+  // by index: Kokkos::BinSort on the device, issue 26 item 5), so that the scattered cell sums and
+  // cell reads of the next collisions touch memory in order. A pure permutation of the rows of x and
+  // v, the same on every backend and thread count; anything else indexed by particle is not
+  // permuted, so call it only where particles are anonymous (the solvent), every few tens of steps
+  // (LAMMPS' atom sorting). The scratch storage is allocated with the class and the sorter at the
+  // first sort (BinSort's create_permute_vector() allocates nothing; it zeroes its bin counts).
   void sort_by_cell(const vector_view& x, const vector_view& v) {
     const int n = int(x.extent(0));
     if (n != last_num_particles_ || int(v.extent(0)) != n)
       throw std::invalid_argument("MPC sort_by_cell: " + std::to_string(n) + " particles, but the last collision had " +
                                   std::to_string(last_num_particles_));
-    const auto cell_of = cell_of_;
-    const auto counts = sort_counts_;
-    const auto xs = x_sorted_, vs = v_sorted_;
-    const int chunks = num_chunks_;
     const int ncell = grid_.num_cells();
-    // counts(c · chunks + t): particles of chunk t in cell c, then their first slot.
-    Kokkos::parallel_for(
-        "mesoflow::mpc::sort::count", Kokkos::RangePolicy<ExecSpace>(0, chunks), KOKKOS_LAMBDA(const int t) {
-          for (int c = 0; c < ncell; ++c) counts(std::size_t(c) * chunks + t) = 0;
-          const int begin = int(std::int64_t(n) * t / chunks), end = int(std::int64_t(n) * (t + 1) / chunks);
-          for (int i = begin; i < end; ++i) ++counts(std::size_t(cell_of(i)) * chunks + t);
-        });
-    Kokkos::parallel_scan(
-        "mesoflow::mpc::sort::offsets", Kokkos::RangePolicy<ExecSpace>(0, ncell),
-        KOKKOS_LAMBDA(const int c, int& partial, const bool final) {
-          int sum = partial;
-          for (int t = 0; t < chunks; ++t) {
-            const int k = counts(std::size_t(c) * chunks + t);
-            if (final) counts(std::size_t(c) * chunks + t) = sum;
-            sum += k;
+    if (!sorter_ || int(sort_keys_.extent(0)) != n) {  // the first sort, or another particle count
+      sort_keys_ = key_view(Kokkos::ViewAllocateWithoutInitializing("mesoflow::mpc::sort_keys"), n);
+      sorter_.emplace(sort_keys_, Kokkos::BinOp1D<key_view>(ncell, 0, std::int64_t(ncell) * n), true);
+    }
+    // Key cell · n + i: unique, so Kokkos::BinSort's binning (bin = cell) followed by its sort within
+    // bins gives the stable order (by cell, then by index) on every backend, whatever order its
+    // atomic binning filled the bins in.
+    const auto cell_of = cell_of_;
+    const auto keys = sort_keys_;
+    const std::int64_t stride = n;
+    mesoflow::launch::parallel_for(
+        "mesoflow::mpc::sort::keys", Kokkos::RangePolicy<ExecSpace>(0, n),
+        KOKKOS_LAMBDA(const int i) { keys(i) = std::int64_t(cell_of(i)) * stride + i; });
+    // create_permute_vector() counts into the bin counts its last binning left (Kokkos 3.4 and 4.x:
+    // only the constructor zeroes them), so a sorter used again would double its counts. Zero them
+    // through a writable alias of get_bin_count() (the same allocation) before each use.
+    const auto bin_count = sorter_->get_bin_count();
+    using count_type = std::remove_const_t<typename decltype(bin_count)::value_type>;
+    const Kokkos::View<count_type*, ExecSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>> counts(
+        const_cast<count_type*>(bin_count.data()), bin_count.extent(0));
+    mesoflow::launch::parallel_for(
+        "mesoflow::mpc::sort::zero_bins", Kokkos::RangePolicy<ExecSpace>(0, int(counts.extent(0))),
+        KOKKOS_LAMBDA(const int b) { counts(b) = 0; });
+    sorter_->create_permute_vector();
+    const auto order = sorter_->get_permute_vector();
+    const auto xs = x_sorted_, vs = v_sorted_;
+    mesoflow::launch::parallel_for(
+        "mesoflow::mpc::sort::gather", Kokkos::RangePolicy<ExecSpace>(0, n), KOKKOS_LAMBDA(const int s) {
+          const int i = int(order(s));
+          for (int d = 0; d < D; ++d) {
+            xs(s, d) = x(i, d);
+            vs(s, d) = v(i, d);
           }
-          partial = sum;
         });
-    Kokkos::parallel_for(
-        "mesoflow::mpc::sort::scatter", Kokkos::RangePolicy<ExecSpace>(0, chunks), KOKKOS_LAMBDA(const int t) {
-          const int begin = int(std::int64_t(n) * t / chunks), end = int(std::int64_t(n) * (t + 1) / chunks);
-          for (int i = begin; i < end; ++i) {
-            const int slot = counts(std::size_t(cell_of(i)) * chunks + t)++;
-            for (int d = 0; d < D; ++d) {
-              xs(slot, d) = x(i, d);
-              vs(slot, d) = v(i, d);
-            }
-          }
-        });
-    Kokkos::parallel_for(
+    mesoflow::launch::parallel_for(
         "mesoflow::mpc::sort::copy_back", Kokkos::RangePolicy<ExecSpace>(0, n), KOKKOS_LAMBDA(const int i) {
           for (int d = 0; d < D; ++d) {
             x(i, d) = xs(i, d);
@@ -284,10 +289,10 @@ class MpcCollision {
     const Real speed = Real(std::sqrt(double(params_.kT) / double(params_.mass)));
 
     if (atomic_sums_) {
-      Kokkos::parallel_for(
+      mesoflow::launch::parallel_for(
           "mesoflow::mpc::zero_sums", Kokkos::RangePolicy<ExecSpace>(0, ncell * K),
           KOKKOS_LAMBDA(const std::size_t k) { partial(k) = 0.0; });
-      Kokkos::parallel_for(
+      mesoflow::launch::parallel_for(
           "mesoflow::mpc::bin_and_sum_atomic", Kokkos::RangePolicy<ExecSpace>(0, n + nv), KOKKOS_LAMBDA(const int i) {
             const bool real = i < n;
             const int j = real ? i : i - n;
@@ -324,7 +329,7 @@ class MpcCollision {
             for (int k = 0; k < K; ++k) Kokkos::atomic_add(&partial(std::size_t(c) * K + k), local[k]);
           });
     } else {
-      Kokkos::parallel_for(
+      mesoflow::launch::parallel_for(
           "mesoflow::mpc::bin_and_sum", Kokkos::RangePolicy<ExecSpace>(0, chunks), KOKKOS_LAMBDA(const int t) {
             double* sums = partial.data() + std::size_t(t) * ncell * K;
             for (std::size_t k = 0; k < ncell * K; ++k) sums[k] = 0.0;
@@ -376,7 +381,7 @@ class MpcCollision {
           });
     }
 
-    Kokkos::parallel_for(
+    mesoflow::launch::parallel_for(
         "mesoflow::mpc::cell_values", Kokkos::RangePolicy<ExecSpace>(0, ncell), KOKKOS_LAMBDA(const std::size_t c) {
           double s[K];
           for (int k = 0; k < K; ++k) s[k] = 0.0;
@@ -387,7 +392,7 @@ class MpcCollision {
           if (s[0] > 0.0) rule.cell_values(int(c), s, values.data() + c * M);
         });
 
-    Kokkos::parallel_for(
+    mesoflow::launch::parallel_for(
         "mesoflow::mpc::apply", Kokkos::RangePolicy<ExecSpace>(0, n + nv), KOKKOS_LAMBDA(const int i) {
           const bool real = i < n;
           const int j = real ? i : i - n;
@@ -428,7 +433,9 @@ class MpcCollision {
   Kokkos::View<double*, ExecSpace> partial_sums_;
   Kokkos::View<Real*, ExecSpace> cell_values_;
   int last_num_particles_ = -1;
-  Kokkos::View<int*, ExecSpace> sort_counts_;
+  using key_view = Kokkos::View<std::int64_t*, ExecSpace>;
+  key_view sort_keys_;
+  std::optional<Kokkos::BinSort<key_view, Kokkos::BinOp1D<key_view>>> sorter_;  // built at the first sort
   vector_view x_sorted_, v_sorted_;
 };
 

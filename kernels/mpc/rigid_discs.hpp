@@ -19,6 +19,7 @@
 // steric forces are pairwise equal and opposite (no walls). No torque acts besides the solvent's.
 #pragma once
 
+#include "../common/kernel_launch.hpp"
 #include "kernels/common/box.hpp"
 #include "kernels/common/cell_list.hpp"
 #include "kernels/common/kokkos_compat.hpp"
@@ -166,7 +167,7 @@ class RigidDiscs {
     const auto X = x;
     const auto U = u;
     const auto box = box_;
-    Kokkos::parallel_for(
+    mesoflow::launch::parallel_for(
         "mesoflow::mpc::discs::move", Kokkos::RangePolicy<ExecSpace>(0, size()), KOKKOS_LAMBDA(int k) {
           Vec<2, Real> c{{X(k, 0) + h * U(k, 0), X(k, 1) + h * U(k, 1)}};
           box.wrap(c);
@@ -179,7 +180,7 @@ class RigidDiscs {
   void clear_accumulators() const {
     const auto F = force;
     const auto J = impulse;
-    Kokkos::parallel_for(
+    mesoflow::launch::parallel_for(
         "mesoflow::mpc::discs::clear", Kokkos::RangePolicy<ExecSpace>(0, size()), KOKKOS_LAMBDA(int k) {
           F(k, 0) = F(k, 1) = Real(0);
           J(k, 0) = J(k, 1) = J(k, 2) = 0.0;
@@ -197,7 +198,7 @@ class RigidDiscs {
     const double inv_m = 1.0 / double(mass_), inv_i = 1.0 / double(inertia_);
     const double damping = 1.0 / (1.0 + double(gamma) * double(h) * inv_m);
     const double dt = double(h);
-    Kokkos::parallel_for(
+    mesoflow::launch::parallel_for(
         "mesoflow::mpc::discs::update_velocities", Kokkos::RangePolicy<ExecSpace>(0, size()),
         KOKKOS_LAMBDA(int k) {
           for (int d = 0; d < 2; ++d)

@@ -5,6 +5,7 @@
 // half is u(y) = ±(ρ g / 2η) y′ (L/2 − y′), which gives η from the fitted curvature without walls.
 #pragma once
 
+#include "../common/kernel_launch.hpp"
 #include "collision_grid.hpp"
 
 #include "kernels/common/kokkos_compat.hpp"
@@ -24,7 +25,7 @@ void kick_split_body_force(const Kokkos::View<Real* [D], Kokkos::LayoutLeft, Exe
     throw std::invalid_argument("split body force: gradient axis must be in [1, " + std::to_string(D - 1) +
                                 "] (axis 0 is the flow), got " + std::to_string(axis));
   const Real lo = grid.lo[axis], length = grid.length[axis], dv = g * h;
-  Kokkos::parallel_for(
+  mesoflow::launch::parallel_for(
       "mesoflow::mpc::split_body_force", Kokkos::RangePolicy<ExecSpace>(0, x.extent(0)), KOKKOS_LAMBDA(const int i) {
         Real s = (x(i, axis) - lo) / length;
         s -= kmath::floor(s);

@@ -3,6 +3,7 @@
 // grid's periodic axes only; walled axes are left to the boundary code (bounce-back).
 #pragma once
 
+#include "../common/kernel_launch.hpp"
 #include "collision_grid.hpp"
 
 #include "kernels/common/kokkos_compat.hpp"
@@ -40,7 +41,7 @@ void stream(const Kokkos::View<Real* [D], Kokkos::LayoutLeft, ExecSpace>& x,
             const Kokkos::Array<Real, std::size_t(D)>& body_acceleration, const CollisionGrid<D, Real>& grid) {
   const auto g = body_acceleration;
   const auto cells = grid;
-  Kokkos::parallel_for(
+  mesoflow::launch::parallel_for(
       "mesoflow::mpc::stream", Kokkos::RangePolicy<ExecSpace>(0, x.extent(0)), KOKKOS_LAMBDA(const int i) {
         Real xi[D], vi[D];
         for (int d = 0; d < D; ++d) {

@@ -32,6 +32,7 @@
 //   discs:     RandomStream(seed, step, disc_virtual, disc, i)
 #pragma once
 
+#include "../common/kernel_launch.hpp"
 #include "kernels/common/kokkos_compat.hpp"
 #include "kernels/common/random.hpp"
 #include "kernels/common/vec.hpp"
@@ -118,7 +119,7 @@ class WallVirtualParticles {
     const Kokkos::Array<Real, 2> slab_hi{grid.lo[1], Real(double(grid.lo[1]) + L + w_top)};
     const std::uint64_t seed = seed_;
     const Real speed = Real(std::sqrt(double(kT_) / double(mass_)));
-    Kokkos::parallel_for(
+    mesoflow::launch::parallel_for(
         "mesoflow::mpc::wall_virtual::generate", Kokkos::RangePolicy<ExecSpace>(0, n_total),
         KOKKOS_LAMBDA(const std::size_t q) {
           const int wall = q < n_bottom ? 0 : 1;
@@ -232,7 +233,7 @@ class DiscVirtualParticles {
     const Real r_out2 = discs.radius() * discs.radius();
     const std::uint64_t seed = seed_;
     const Real speed = Real(std::sqrt(double(kT_) / double(mass_)));
-    Kokkos::parallel_for(
+    mesoflow::launch::parallel_for(
         "mesoflow::mpc::disc_virtual::generate", Kokkos::RangePolicy<ExecSpace>(0, n_total),
         KOKKOS_LAMBDA(const std::size_t q) {
           const std::size_t k = q / per, index = q % per;
@@ -265,7 +266,7 @@ class DiscVirtualParticles {
     const auto box = discs.box();
     const auto vb = v_before_;
     const double m = double(mass_);
-    Kokkos::parallel_for(
+    mesoflow::launch::parallel_for(
         "mesoflow::mpc::disc_virtual::transfer", Kokkos::RangePolicy<ExecSpace>(0, num_discs_),
         KOKKOS_LAMBDA(const std::size_t k) {
           const Vec<2, Real> centre = Vec<2, Real>::load(X, int(k));

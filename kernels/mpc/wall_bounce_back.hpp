@@ -17,6 +17,7 @@
 // Per-wall sums are Kokkos reductions (static schedule): deterministic at a fixed thread count.
 #pragma once
 
+#include "../common/kernel_launch.hpp"
 #include "kernels/common/kokkos_compat.hpp"
 #include "kernels/common/reductions.hpp"
 #include "kernels/mpc/collision_grid.hpp"
@@ -119,11 +120,11 @@ class ChannelWalls {
   // schedule, deterministic at a fixed thread count) and a one-item kernel; no host transfer.
   template <class Body>
   void accumulate(const std::string& label, int n, const Body& body) const {
-    Kokkos::parallel_reduce(label, Kokkos::RangePolicy<ExecSpace>(0, n), SumArrayFunctor<2 * D, Body>{body},
+    mesoflow::launch::parallel_reduce(label, Kokkos::RangePolicy<ExecSpace>(0, n), SumArrayFunctor<2 * D, Body>{body},
                             scratch_);
     const auto total = momentum_;
     const auto s = scratch_;
-    Kokkos::parallel_for(
+    mesoflow::launch::parallel_for(
         "mesoflow::mpc::walls::add_momentum", Kokkos::RangePolicy<ExecSpace>(0, 1), KOKKOS_LAMBDA(int) {
           for (int w = 0; w < 2; ++w)
             for (int d = 0; d < D; ++d) total(w, d) += s().v[w * D + d];

@@ -30,6 +30,7 @@
 // is an error, never truncated.
 #pragma once
 
+#include "../common/kernel_launch.hpp"
 #include "kernels/common/kokkos_compat.hpp"
 #include "kernels/mpc/collision_grid.hpp"
 #include "kernels/mpc/wall_bounce_back.hpp"
@@ -92,7 +93,7 @@ class WallMirrorParticles {
     const std::size_t limit = room < capacity_ ? room : capacity_;
     const auto vb = v_before_;
     std::size_t total = 0;
-    Kokkos::parallel_scan(
+    mesoflow::launch::parallel_scan(
         "mesoflow::mpc::wall_mirror::generate", Kokkos::RangePolicy<ExecSpace>(0, n_solvent),
         KOKKOS_LAMBDA(const std::size_t i, std::size_t& slot, const bool final) {
           const Real y = x(i, 1);

@@ -43,6 +43,7 @@
 // bonds, the partner and 0–6 diagonals, so K_i ≤ 11 k_b and Δt_bond ≥ 0.15 √(m/k_b) at C_b = 0.5.
 #pragma once
 
+#include "../common/kernel_launch.hpp"
 #include "kernels/common/box.hpp"
 #include "kernels/common/kokkos_compat.hpp"
 #include "kernels/common/particle_sort.hpp"
@@ -206,7 +207,7 @@ class HarmonicBonds {
     const auto rows = bonds_.row_particle, offset = bonds_.offset, bond = bonds_.incident_bond;
     const auto k = bonds_.k;
     double max_ratio = 0;  // max_i K_i/m_i
-    Kokkos::parallel_reduce(
+    mesoflow::launch::parallel_reduce(
         "mesoflow::msm::bond_time_step", Kokkos::RangePolicy<ExecSpace>(0, bonds_.num_rows()),
         KOKKOS_LAMBDA(int row, double& acc) {
           double sum_k = 0;
@@ -226,7 +227,7 @@ class HarmonicBonds {
     const auto rows = bonds_.row_particle, offset = bonds_.offset;
     const auto bond = bonds_.incident_bond, partner = bonds_.incident_partner;
     const auto k = bonds_.k, r0 = bonds_.r0;
-    Kokkos::parallel_for(
+    mesoflow::launch::parallel_for(
         "mesoflow::msm::harmonic_bonds", Kokkos::RangePolicy<ExecSpace>(0, bonds_.num_rows()),
         KOKKOS_LAMBDA(int row) {
           const int i = rows(row);
@@ -250,7 +251,7 @@ class HarmonicBonds {
     const auto ends = bonds_.ends;
     const auto k = bonds_.k, r0 = bonds_.r0;
     double u = 0;
-    Kokkos::parallel_reduce(
+    mesoflow::launch::parallel_reduce(
         "mesoflow::msm::harmonic_bond_energy", Kokkos::RangePolicy<ExecSpace>(0, bonds_.num_bonds()),
         KOKKOS_LAMBDA(int b, double& acc) {
           Vec<D, Real> dr = Vec<D, Real>::load(x, ends(b, 1)) - Vec<D, Real>::load(x, ends(b, 0));

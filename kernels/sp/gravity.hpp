@@ -8,6 +8,7 @@
 // particle's Particles::mass.
 #pragma once
 
+#include "../common/kernel_launch.hpp"
 #include "kernels/common/particles.hpp"
 #include "kernels/common/vec.hpp"
 
@@ -19,7 +20,7 @@ template <int D, class Real, class ExecSpace>
 void set_gravity_forces(const Particles<D, Real, ExecSpace>& p, const Vec<D, Real>& g) {
   const auto f = p.f;
   const auto m = p.mass;
-  Kokkos::parallel_for(
+  mesoflow::launch::parallel_for(
       "mesoflow::sp::gravity", Kokkos::RangePolicy<ExecSpace>(0, p.size()), KOKKOS_LAMBDA(int i) {
         for (int d = 0; d < D; ++d) f(i, d) = m(i) * g[d];
       });

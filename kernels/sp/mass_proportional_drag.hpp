@@ -4,6 +4,7 @@
 // forces (velocity_verlet.hpp). It dissipates: F_m·v_m = −ζ M_m |v_m|² ≤ 0.
 #pragma once
 
+#include "../common/kernel_launch.hpp"
 #include "kernels/common/kokkos_compat.hpp"
 #include "kernels/common/particles.hpp"
 
@@ -23,7 +24,7 @@ void accumulate_mass_proportional_drag(Real zeta, const Particles<D, Real, ExecS
   const auto v = velocity;
   const auto f = p.f;
   const auto m = p.mass;
-  Kokkos::parallel_for(
+  mesoflow::launch::parallel_for(
       "mesoflow::sp::mass_proportional_drag", Kokkos::RangePolicy<ExecSpace>(0, p.size()), KOKKOS_LAMBDA(int i) {
         const Real c = -zeta * m(i);
         for (int d = 0; d < D; ++d) f(i, d) += c * v(i, d);

@@ -15,6 +15,7 @@
 // neighbor-list rebuild with margin = skin, every particle then having moved less than skin/2.
 #pragma once
 
+#include "../common/kernel_launch.hpp"
 #include "kernels/common/geometry.hpp"
 #include "kernels/common/kokkos_compat.hpp"
 #include "kernels/common/particles.hpp"
@@ -54,7 +55,7 @@ void find_wall_candidates(Real margin, const SoftSphereRepulsion<Real>& sizes,
   const int n_walls = walls.size();
   const auto x = p.x;
   const auto type = p.type;
-  Kokkos::parallel_for(
+  mesoflow::launch::parallel_for(
       "mesoflow::sp::wall_candidates", Kokkos::RangePolicy<ExecSpace>(0, p.size()), KOKKOS_LAMBDA(int i) {
         const Vec<D, Real> xi = Vec<D, Real>::load(x, i);
         const Real reach = Real(0.5) * sizes.contact[type(i)][type(i)] + margin;
@@ -75,7 +76,7 @@ double wall_repulsion(Real epsilon_w, const SoftSphereRepulsion<Real>& sizes, co
   const auto f = p.f;
   const auto type = p.type;
   double energy = 0;
-  Kokkos::parallel_reduce(
+  mesoflow::launch::parallel_reduce(
       "mesoflow::sp::wall_repulsion", Kokkos::RangePolicy<ExecSpace>(0, p.size()),
       KOKKOS_LAMBDA(int i, double& acc) {
         unsigned mask = ~0u;

@@ -21,6 +21,7 @@
 // of a shear cell) and move with it, x^{n+1} = x^n + Δt v; their ū is that velocity.
 #pragma once
 
+#include "../common/kernel_launch.hpp"
 #include "kernels/common/particles.hpp"
 #include "particle_types.hpp"
 
@@ -52,7 +53,7 @@ class SphIntegrator {
     const auto m = p.mass;
     const auto type = p.type;
     const Real dt = dt_, half_dt = Real(0.5) * dt_;
-    Kokkos::parallel_for(
+    mesoflow::launch::parallel_for(
         "mesoflow::sph::integrate_first_half", Kokkos::RangePolicy<ExecSpace>(0, p.size()), KOKKOS_LAMBDA(int i) {
           rho(i) += half_dt * drho(i);
           if (is_fixed(type(i))) {
@@ -78,7 +79,7 @@ class SphIntegrator {
     const auto m = p.mass;
     const auto type = p.type;
     const Real half_dt = Real(0.5) * dt_;
-    Kokkos::parallel_for(
+    mesoflow::launch::parallel_for(
         "mesoflow::sph::integrate_second_half", Kokkos::RangePolicy<ExecSpace>(0, p.size()), KOKKOS_LAMBDA(int i) {
           rho(i) += half_dt * drho(i);
           if (is_fixed(type(i))) return;

@@ -28,6 +28,7 @@
 // the periodic faces, skip the minimum image. Neither changes a bit of the sums.
 #pragma once
 
+#include "../common/kernel_launch.hpp"
 #include "continuity_density.hpp"
 #include "no_slip_walls.hpp"
 #include "kernels/common/box.hpp"
@@ -98,7 +99,7 @@ void pack_sph_rows(const Particles<D, Real, ExecSpace>& p,
   using C = SphColumn<D>;
   const auto x = p.x;
   const auto m = p.mass;
-  Kokkos::parallel_for(
+  mesoflow::launch::parallel_for(
       "mesoflow::sph::pack_rows", Kokkos::RangePolicy<ExecSpace>(0, p.size()), KOKKOS_LAMBDA(int i) {
         const Real rho_i = rho(i);
         const Real inv_rho = Real(1) / rho_i;
@@ -278,7 +279,7 @@ class SphPairInteractions {
                                                         const Box<D, Real>& box) {
     using C = SphColumn<D>;
     if (overhang_.data() == nullptr) overhang_ = Kokkos::View<Real, ExecSpace>("mesoflow::sph::overhang");
-    Kokkos::parallel_reduce(
+    mesoflow::launch::parallel_reduce(
         "mesoflow::sph::overhang", Kokkos::RangePolicy<ExecSpace>(0, rows.extent(0)),
         KOKKOS_LAMBDA(int i, Real& out) {
           for (int d = 0; d < D; ++d)
@@ -337,7 +338,7 @@ class SphPairInteractions {
     const int n = int(rows.extent(0));
     if (int(acc_.extent(0)) != n) acc_ = Kokkos::View<double* [D + 1], ExecSpace>("mesoflow::sph::pair_sums", n);
     const auto acc = acc_;
-    Kokkos::parallel_for(
+    mesoflow::launch::parallel_for(
         "mesoflow::sph::zero_pair_sums", Kokkos::RangePolicy<ExecSpace>(0, n), KOKKOS_LAMBDA(int i) {
           for (int d = 0; d <= D; ++d) acc(i, d) = 0.0;
         });
@@ -347,7 +348,7 @@ class SphPairInteractions {
     scatter_.contribute(acc_);
     const auto body = body_;
     const auto m = Kokkos::subview(rows, Kokkos::ALL, int(C::mass));
-    Kokkos::parallel_for(
+    mesoflow::launch::parallel_for(
         "mesoflow::sph::unpack_pair_sums", Kokkos::RangePolicy<ExecSpace>(0, n), KOKKOS_LAMBDA(int i) {
           const int ti = type(i);
           for (int d = 0; d < D; ++d) f(i, d) = Real(double(m(i)) * (acc(i, d) + double(body.component(ti, d))));

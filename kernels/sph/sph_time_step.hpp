@@ -39,6 +39,7 @@
 // revising Δt, not every step.
 #pragma once
 
+#include "../common/kernel_launch.hpp"
 #include "kernels/common/particles.hpp"
 #include "particle_types.hpp"
 
@@ -109,7 +110,7 @@ double max_fluid_acceleration(const Particles<D, Real, ExecSpace>& p) {
   const auto m = p.mass;
   const auto type = p.type;
   double a2 = 0;
-  Kokkos::parallel_reduce(
+  mesoflow::launch::parallel_reduce(
       "mesoflow::sph::max_acceleration", Kokkos::RangePolicy<ExecSpace>(0, p.size()),
       KOKKOS_LAMBDA(int i, double& acc) {
         if (is_fixed(type(i))) return;

@@ -21,6 +21,7 @@
 // a few percent), before anything is written from that state.
 #pragma once
 
+#include "kernels/common/kernel_launch.hpp"
 #include "kernels/msm/membrane_moduli.hpp"
 #include "kernels/sph/tait_equation_of_state.hpp"
 #include "scenes/capsule/capsule_scene.hpp"
@@ -210,7 +211,7 @@ double fluid_momentum_x(const Scene& scene) {
   const auto m = p.mass;
   const auto type = p.type;
   double px = 0;
-  Kokkos::parallel_reduce(
+  mesoflow::launch::parallel_reduce(
       "mesoflow::capsule::fluid_momentum_x", Kokkos::RangePolicy<Exec>(0, int(p.size())),
       KOKKOS_LAMBDA(int i, double& acc) {
         if (!sph::is_fixed(type(i))) acc += double(m(i)) * double(v(i, 0));

@@ -83,6 +83,7 @@
 // repeats it bit for bit (tests/capsule/test_capsule_watchdog.cpp).
 #pragma once
 
+#include "kernels/common/kernel_launch.hpp"
 #include "scenes/capsule/channel_geometry.hpp"
 #include "kernels/msm/membrane_moduli.hpp"
 #include "scenes/common/nan_watchdog.hpp"
@@ -224,7 +225,7 @@ struct CapsuleTimeStepLimits {
 template <int D, class Real, class ExecSpace>
 void zero_sph_columns(const sph::SphRows<D, Real, ExecSpace>& rows, bool pressure, bool viscosity) {
   using C = sph::SphColumn<D>;
-  Kokkos::parallel_for(
+  mesoflow::launch::parallel_for(
       "mesoflow::capsule::watchdog_zero_columns", Kokkos::RangePolicy<ExecSpace>(0, rows.extent(0)),
       KOKKOS_LAMBDA(int i) {
         if (pressure) rows(i, C::p_over_rho2) = Real(0);
@@ -379,7 +380,7 @@ class CapsuleScene {
   double max_speed() const {
     const auto v = sys_.particles.v;
     double v2 = 0;
-    Kokkos::parallel_reduce(
+    mesoflow::launch::parallel_reduce(
         "mesoflow::capsule::max_speed", Kokkos::RangePolicy<ExecSpace>(0, int(sys_.particles.size())),
         KOKKOS_LAMBDA(int i, double& acc) {
           double s = 0;
@@ -395,7 +396,7 @@ class CapsuleScene {
     const auto rho = sys_.rho;
     const double rho0 = par_.rho0;
     double dev = 0;
-    Kokkos::parallel_reduce(
+    mesoflow::launch::parallel_reduce(
         "mesoflow::capsule::density_deviation", Kokkos::RangePolicy<ExecSpace>(0, int(sys_.particles.size())),
         KOKKOS_LAMBDA(int i, double& acc) {
           const double e = kmath::fabs(double(rho(i)) / rho0 - 1.0);
@@ -410,7 +411,7 @@ class CapsuleScene {
     const auto x = sys_.particles.x, v = sys_.particles.v, f = sys_.particles.f;
     const auto rho = sys_.rho;
     int bad = 0;
-    Kokkos::parallel_reduce(
+    mesoflow::launch::parallel_reduce(
         "mesoflow::capsule::finite_check", Kokkos::RangePolicy<ExecSpace>(0, int(sys_.particles.size())),
         KOKKOS_LAMBDA(int i, int& acc) {
           bool ok = kmath::isfinite(double(rho(i)));

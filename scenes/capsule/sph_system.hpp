@@ -30,6 +30,7 @@
 // renumber_particle_indices() (kernels/common/particle_sort.hpp).
 #pragma once
 
+#include "kernels/common/kernel_launch.hpp"
 #include "kernels/common/neighbor_list.hpp"
 #include "kernels/common/particle_sort.hpp"
 #include "kernels/common/velocity_verlet.hpp"
@@ -123,7 +124,7 @@ class SphSystem {
   // with a host lambda's type (the extra-forces callback).
   void set_u_bar_to_velocity() {
     const auto v = particles.v, ub = u_bar;
-    Kokkos::parallel_for(
+    mesoflow::launch::parallel_for(
         "mesoflow::sph::initial_u_bar", Kokkos::RangePolicy<ExecSpace>(0, particles.size()), KOKKOS_LAMBDA(int i) {
           for (int d = 0; d < D; ++d) ub(i, d) = v(i, d);
         });
@@ -160,14 +161,14 @@ class SphSystem {
     const auto type = particles.type;
     double nu_max = 0, nu_min = 0, c_max = 0;
     const auto eos = eos_;
-    Kokkos::parallel_reduce(
+    mesoflow::launch::parallel_reduce(
         "mesoflow::sph::max_viscosity", Kokkos::RangePolicy<ExecSpace>(0, particles.size()),
         KOKKOS_LAMBDA(int i, double& nu) {
           const double nu_i = double(mu_(i)) / double(rho_(i));
           if (nu_i > nu) nu = nu_i;
         },
         Kokkos::Max<double>(nu_max));
-    Kokkos::parallel_reduce(
+    mesoflow::launch::parallel_reduce(
         "mesoflow::sph::min_viscosity", Kokkos::RangePolicy<ExecSpace>(0, particles.size()),
         KOKKOS_LAMBDA(int i, double& nu) {
           if (is_fixed(type(i))) return;
@@ -176,7 +177,7 @@ class SphSystem {
         },
         Kokkos::Min<double>(nu_min));
     nu_min = std::min(nu_min, nu_max);
-    Kokkos::parallel_reduce(
+    mesoflow::launch::parallel_reduce(
         "mesoflow::sph::max_sound_speed", Kokkos::RangePolicy<ExecSpace>(0, particles.size()),
         KOKKOS_LAMBDA(int i, double& c) {
           const double c_i = is_fixed(type(i)) ? 0.0 : double(eos.sound_speed(rho_(i)));

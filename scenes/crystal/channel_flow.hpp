@@ -35,6 +35,7 @@
 // discs at rest.
 #pragma once
 
+#include "kernels/common/kernel_launch.hpp"
 #include "kernels/common/kokkos_compat.hpp"
 #include "kernels/common/random.hpp"
 #include "kernels/common/reductions.hpp"
@@ -415,7 +416,7 @@ class ChannelFlow {
     const std::uint64_t seed = p_.seed;
     constexpr int max_attempts = 10000;
     int failures = 0;
-    Kokkos::parallel_reduce(
+    mesoflow::launch::parallel_reduce(
         "mesoflow::mpc::channel::initialise", Kokkos::RangePolicy<ExecSpace>(0, num_solvent()),
         KOKKOS_LAMBDA(int i, int& failed) {
           RandomStream rs(seed, 0, stream_tag::initial_condition, std::uint32_t(i), 0);

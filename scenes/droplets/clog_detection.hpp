@@ -32,6 +32,7 @@
 // host during a run except the count of running replicas, when asked for.
 #pragma once
 
+#include "kernels/common/kernel_launch.hpp"
 #include "kernels/common/kokkos_compat.hpp"
 #include "kernels/common/vec.hpp"
 
@@ -169,7 +170,7 @@ class ClogDetector {
   template <class ReplicaState>
   void start(const ReplicaState& state) {
     const auto origin = origin_;
-    Kokkos::parallel_for(
+    mesoflow::launch::parallel_for(
         "mesoflow::clog_detection::start", Kokkos::RangePolicy<ExecSpace>(0, replicas()), KOKKOS_LAMBDA(int b) {
           double com[2], ke;
           state(b, com, ke);
@@ -204,7 +205,7 @@ class ClogDetector {
     }
     const int count = samples_, w = testing ? int(ring_.extent(1)) : 1;
     const double tolerance = early_.tolerance, max_scatter = early_.max_scatter, min_rate = early_.min_rate;
-    Kokkos::parallel_for(
+    mesoflow::launch::parallel_for(
         "mesoflow::clog_detection::observe", Kokkos::RangePolicy<ExecSpace>(0, replicas()), KOKKOS_LAMBDA(int b) {
           if (status(b) != replica_status::running) return;
           double com[2], ke;
@@ -282,7 +283,7 @@ class ClogDetector {
   int running() const {
     const auto status = status_;
     int n = 0;
-    Kokkos::parallel_reduce(
+    mesoflow::launch::parallel_reduce(
         "mesoflow::clog_detection::running", Kokkos::RangePolicy<ExecSpace>(0, replicas()),
         KOKKOS_LAMBDA(int b, int& acc) { acc += status(b) == replica_status::running ? 1 : 0; }, n);
     return n;

@@ -15,6 +15,7 @@
 // sides toward the wall, and a small K_l/Γ lets the vertex mass gather there (Appendix B).
 #pragma once
 
+#include "kernels/common/kernel_launch.hpp"
 #include "scenes/droplets/droplet_scene.hpp"
 #include "kernels/common/geometry.hpp"
 #include "kernels/sp/obstacle_repulsion.hpp"
@@ -158,7 +159,7 @@ inline DeformationResult sp_deformation(double wall_energy, const DeformationSet
     p.zero_forces();
     double u = accumulate_surface_forces(wall, p, p.v, repulsion);
     double ug = 0;
-    Kokkos::parallel_reduce(
+    mesoflow::launch::parallel_reduce(
         "mesoflow::deformation::sp_gravity", Kokkos::RangePolicy<Exec>(0, 1),
         KOKKOS_LAMBDA(int i, double& acc) {
           f(i, 1) -= droplet_mass;  // M g along −y

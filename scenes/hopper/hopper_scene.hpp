@@ -22,6 +22,7 @@
 // (relative, 1 − r/σ_mn and 1 − 2d_w/σ_m); it takes the anchor's velocity.
 #pragma once
 
+#include "kernels/common/kernel_launch.hpp"
 #include "scenes/common/nan_watchdog.hpp"
 #include "scenes/common/term_list.hpp"
 #include "scenes/hopper/recycling.hpp"
@@ -370,7 +371,7 @@ class HopperScene {
  public:  // kernels below: nvcc rejects a KOKKOS_LAMBDA in a private member function
   // ids(i) ← i. (Not in the constructor: nvcc rejects a KOKKOS_LAMBDA there.)
   static void number_ids(const Kokkos::View<int*, ExecSpace>& ids) {
-    Kokkos::parallel_for(
+    mesoflow::launch::parallel_for(
         "mesoflow::hopper::ids", Kokkos::RangePolicy<ExecSpace>(0, ids.extent(0)), KOKKOS_LAMBDA(int i) { ids(i) = i; });
   }
 

@@ -6,6 +6,7 @@
 // (write_checkpoint / read_checkpoint over scenes/common/checkpoint_fields.hpp).
 #pragma once
 
+#include "kernels/common/kernel_launch.hpp"
 #include "io/checkpoint.hpp"
 #include "kernels/common/box.hpp"
 #include "kernels/common/neighbor_list.hpp"
@@ -28,7 +29,7 @@ void place_on_lattice(const Particles<D, Real, Exec>& p, Real L, std::uint64_t s
   const int per_side = int(std::ceil(std::pow(double(n), 1.0 / D) - 1e-9));
   const Real a = L / Real(per_side);
   const auto x = p.x;
-  Kokkos::parallel_for(
+  mesoflow::launch::parallel_for(
       "mesoflow::lj_fluid::lattice", Kokkos::RangePolicy<Exec>(0, n), KOKKOS_LAMBDA(int i) {
         RandomStream jitter(seed, 0, stream_tag::initial_condition, std::uint32_t(i), 0);
         int site = i;
@@ -44,7 +45,7 @@ template <int D, class Real, class Exec>
 void thermalize(const Particles<D, Real, Exec>& p, double kT, std::uint64_t seed) {
   const auto v = p.v;
   const Real sd = Real(std::sqrt(kT));
-  Kokkos::parallel_for(
+  mesoflow::launch::parallel_for(
       "mesoflow::lj_fluid::maxwell", Kokkos::RangePolicy<Exec>(0, p.size()), KOKKOS_LAMBDA(int i) {
         RandomStream g(seed, 0, stream_tag::initial_condition, std::uint32_t(i), 1);
         for (int d = 0; d < D; ++d) v(i, d) = sd * g.template normal<Real>();
@@ -52,7 +53,7 @@ void thermalize(const Particles<D, Real, Exec>& p, double kT, std::uint64_t seed
   const auto P = momentum(p);
   double mass = 0;
   const auto m = p.mass;
-  Kokkos::parallel_reduce(
+  mesoflow::launch::parallel_reduce(
       "mesoflow::lj_fluid::total_mass", Kokkos::RangePolicy<Exec>(0, p.size()),
       KOKKOS_LAMBDA(int i, double& acc) { acc += m(i); }, mass);
   Real drift[D];
@@ -64,7 +65,7 @@ void thermalize(const Particles<D, Real, Exec>& p, double kT, std::uint64_t seed
     return s;
   }();
   const Real scale = Real(std::sqrt(kT * dof / (2.0 * ke)));
-  Kokkos::parallel_for(
+  mesoflow::launch::parallel_for(
       "mesoflow::lj_fluid::rescale", Kokkos::RangePolicy<Exec>(0, p.size()), KOKKOS_LAMBDA(int i) {
         for (int d = 0; d < D; ++d) v(i, d) = scale * (v(i, d) - drift[d]);
       });

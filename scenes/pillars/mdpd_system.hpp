@@ -23,6 +23,7 @@
 // components() names the launches that run.
 #pragma once
 
+#include "kernels/common/kernel_launch.hpp"
 #include "kernels/common/neighbor_list.hpp"
 #include "kernels/common/particle_sort.hpp"
 #include "kernels/common/reductions.hpp"
@@ -88,7 +89,7 @@ class MdpdSystem {
     vr_ = rows_view("mesoflow::mdpd::packed_v", n);
     fr_ = rows_view("mesoflow::mdpd::packed_f", n);
     const auto t = tag;
-    Kokkos::parallel_for(
+    mesoflow::launch::parallel_for(
         "mesoflow::mdpd::tags", Kokkos::RangePolicy<ExecSpace>(0, n), KOKKOS_LAMBDA(int i) { t(i) = std::uint32_t(i); });
   }
 
@@ -196,7 +197,7 @@ class MdpdSystem {
   void prepare_terms() {
     const auto type = particles.type;
     int solids = 0, cores = 0;
-    Kokkos::parallel_reduce(
+    mesoflow::launch::parallel_reduce(
         "mesoflow::mdpd::count_solids", Kokkos::RangePolicy<ExecSpace>(0, particles.size()),
         KOKKOS_LAMBDA(int i, int& s, int& c) {
           s += is_solid(type(i));
@@ -245,7 +246,7 @@ class MdpdSystem {
       const auto xr = xr_, vr = vr_;
       const auto v = v_forces;
       const auto density = rho;
-      Kokkos::parallel_for(
+      mesoflow::launch::parallel_for(
           "mesoflow::mdpd::pack_density_velocity", Kokkos::RangePolicy<ExecSpace>(0, particles.size()),
           KOKKOS_LAMBDA(int i) {
             xr(i, rho_column) = density(i);
@@ -257,7 +258,7 @@ class MdpdSystem {
     {
       const auto f = particles.f;
       const auto fr = fr_;
-      Kokkos::parallel_for(
+      mesoflow::launch::parallel_for(
           "mesoflow::mdpd::unpack_forces", Kokkos::RangePolicy<ExecSpace>(0, particles.size()), KOKKOS_LAMBDA(int i) {
             for (int d = 0; d < D; ++d) f(i, d) = fr(i, d);
           });
@@ -348,7 +349,7 @@ class MdpdSystem {
 template <class Real, class Exec>
 void set_density_column(const PackedRows<Real, Exec>& xr, const Kokkos::View<Real*, Exec>& rho) {
   const bool zero = rho.extent(0) == 0;
-  Kokkos::parallel_for(
+  mesoflow::launch::parallel_for(
       "mesoflow::pillars::watchdog_density_column", Kokkos::RangePolicy<Exec>(0, xr.extent(0)),
       KOKKOS_LAMBDA(int i) { xr(i, rho_column) = zero ? Real(0) : rho(i); });
 }
@@ -356,7 +357,7 @@ void set_density_column(const PackedRows<Real, Exec>& xr, const Kokkos::View<Rea
 // f(i) += fr(i) (the pair forces of packed rows).
 template <int D, class Real, class Exec>
 void add_packed_forces(const PackedRows<Real, Exec>& fr, const typename Particles<D, Real, Exec>::vector_view& f) {
-  Kokkos::parallel_for(
+  mesoflow::launch::parallel_for(
       "mesoflow::pillars::watchdog_add_pair_forces", Kokkos::RangePolicy<Exec>(0, f.extent(0)), KOKKOS_LAMBDA(int i) {
         for (int d = 0; d < D; ++d) f(i, d) += fr(i, d);
       });

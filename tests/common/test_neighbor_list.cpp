@@ -47,7 +47,7 @@ Box<D, Real> make_box(double L, std::array<bool, D> periodic, double lo = -1.0) 
 template <int D, class Real, class Exec>
 std::set<std::pair<int, int>> listed_pairs(const NeighborList<D, Real, Exec>& nl) {
   const bool half = nl.kind() == NeighborListKind::half;
-  auto data = nl.data();
+  auto data = nl.views();
   auto particle = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), data.row_particle);
   auto count = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), data.count);
   auto index = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), data.index);
@@ -313,7 +313,7 @@ TYPED_TEST(NeighborListTest, InnerCutoffListsTheNearNeighborsFirst) {
       plain.build(*p, box);
       split.build(*p, box);
       EXPECT_EQ(listed_pairs(plain), listed_pairs(split));
-      auto data = split.data();
+      auto data = split.views();
       auto particle = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), data.row_particle);
       auto count = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), data.count);
       auto inner = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), data.inner);
@@ -373,10 +373,10 @@ TYPED_TEST(NeighborListTest, RowsAreIdenticalOnEveryBackendAndThreadCount) {
   NeighborList<3, Real, Kokkos::DefaultHostExecutionSpace> b(Real(1.0), Real(0.3));
   a.build(p, box);
   b.build(q, box);
-  auto ca = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), a.data().count);
-  auto ia = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), a.data().index);
-  auto cb = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), b.data().count);
-  auto ib = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), b.data().index);
+  auto ca = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), a.views().count);
+  auto ia = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), a.views().index);
+  auto cb = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), b.views().count);
+  auto ib = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), b.views().index);
   for (int i = 0; i < 1500; ++i) {
     ASSERT_EQ(ca(i), cb(i));
     for (int k = 0; k < ca(i); ++k) ASSERT_EQ(ia(i, k), ib(i, k)) << "row " << i << " entry " << k;

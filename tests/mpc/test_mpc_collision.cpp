@@ -576,35 +576,40 @@ TYPED_TEST(MpcCollisionTest, SortByCellPermutesRowsIntoStableCellOrder) {
   MpcCollision<D, Real, Exec> collision(grid, p, n);
   auto x = to_view<D, Real, Exec>(x0, n);
   auto v = to_view<D, Real, Exec>(v0, n);
-  collision.shift_grid(3);
-  collision.collide(x, v, 3);
-  const auto x1 = from_view<D, Real>(x, n);
-  const auto v1 = from_view<D, Real>(v, n);
-  collision.sort_by_cell(x, v);
-  const auto x2 = from_view<D, Real>(x, n);
-  const auto v2 = from_view<D, Real>(v, n);
-  // Positions are distinct: each sorted row comes from the unsorted row with the same position.
-  std::vector<std::pair<std::array<Real, D>, std::size_t>> index;
-  for (std::size_t i = 0; i < n; ++i) index.push_back({x1[i], i});
-  std::sort(index.begin(), index.end());
-  int previous_cell = -1;
-  std::size_t previous_row = 0, moved = 0;
-  for (std::size_t s2 = 0; s2 < n; ++s2) {
-    const auto it = std::lower_bound(index.begin(), index.end(), std::make_pair(x2[s2], std::size_t(0)));
-    ASSERT_TRUE(it != index.end() && it->first == x2[s2]) << "row " << s2 << " is not an old row";
-    const std::size_t row = it->second;
-    EXPECT_EQ(v2[s2], v1[row]);
-    moved += row != s2;
-    Real xi[D], local[D];
-    for (int d = 0; d < D; ++d) xi[d] = x2[s2][d];
-    const int cell = collision.grid().locate(xi, local);
-    EXPECT_TRUE(cell > previous_cell || (cell == previous_cell && row > previous_row))
-        << "slot " << s2 << ": cell " << cell << " row " << row << " after cell " << previous_cell << " row "
-        << previous_row;
-    previous_cell = cell;
-    previous_row = row;
+  // Twice, with another grid shift the second time: the sorter is reused (its bin counts must start
+  // from zero again).
+  for (std::uint64_t step : {3u, 4u}) {
+    SCOPED_TRACE("sort after the collision of step " + std::to_string(step));
+    collision.shift_grid(step);
+    collision.collide(x, v, step);
+    const auto x1 = from_view<D, Real>(x, n);
+    const auto v1 = from_view<D, Real>(v, n);
+    collision.sort_by_cell(x, v);
+    const auto x2 = from_view<D, Real>(x, n);
+    const auto v2 = from_view<D, Real>(v, n);
+    // Positions are distinct: each sorted row comes from the unsorted row with the same position.
+    std::vector<std::pair<std::array<Real, D>, std::size_t>> index;
+    for (std::size_t i = 0; i < n; ++i) index.push_back({x1[i], i});
+    std::sort(index.begin(), index.end());
+    int previous_cell = -1;
+    std::size_t previous_row = 0, moved = 0;
+    for (std::size_t s2 = 0; s2 < n; ++s2) {
+      const auto it = std::lower_bound(index.begin(), index.end(), std::make_pair(x2[s2], std::size_t(0)));
+      ASSERT_TRUE(it != index.end() && it->first == x2[s2]) << "row " << s2 << " is not an old row";
+      const std::size_t row = it->second;
+      EXPECT_EQ(v2[s2], v1[row]);
+      moved += row != s2;
+      Real xi[D], local[D];
+      for (int d = 0; d < D; ++d) xi[d] = x2[s2][d];
+      const int cell = collision.grid().locate(xi, local);
+      EXPECT_TRUE(cell > previous_cell || (cell == previous_cell && row > previous_row))
+          << "slot " << s2 << ": cell " << cell << " row " << row << " after cell " << previous_cell << " row "
+          << previous_row;
+      previous_cell = cell;
+      previous_row = row;
+    }
+    EXPECT_GT(moved, step == 3 ? n / 2 : std::size_t(0));
   }
-  EXPECT_GT(moved, n / 2);
   EXPECT_THROW(collision.sort_by_cell(x, v), std::invalid_argument);  // cells are stale after a sort
 }
 

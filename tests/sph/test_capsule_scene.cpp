@@ -130,7 +130,10 @@ TEST(CapsuleScene, RunningLimitsFollowTheLargestSoundSpeed) {
 
 // The body force of eq. (2) accelerates the fluids (outer and inner) and not the membrane (§4):
 // at rest, with ρ = ρ0 everywhere (p = 0) and the membrane at its rest lengths, the first force
-// evaluation is exactly m g on the fluids and exactly zero on the membrane.
+// evaluation is exactly m g on the fluids and exactly zero on the membrane — on a host backend; a
+// device compiler's FMA contraction leaves the rounding of r − r_0 and of the pressure sums, bounded
+// by testing::agrees_with_host (1000 operations: ~60 neighbors and ≤ 12 bonds of ~15 each, at the
+// scale of k_b r_0 and of the pressure terms, ≤ 1 here: k_b = 1, spacing 1).
 TEST(CapsuleScene, BodyForceDrivesTheFluidsNotTheMembrane) {
   auto par = small_scene();
   par.body_force = {0.01, 0, 0};
@@ -141,9 +144,13 @@ TEST(CapsuleScene, BodyForceDrivesTheFluidsNotTheMembrane) {
   const auto f = host_copy(p.f);
   for (int i = 0; i < scene.num_particles(); ++i) {
     const bool fluid = type(i) == sph::particle_type::fluid || type(i) == sph::particle_type::inner_fluid;
-    EXPECT_DOUBLE_EQ(f(i, 0), fluid ? 0.01 * mass(i) : 0.0) << "particle " << i << " of type " << type(i);
-    EXPECT_EQ(f(i, 1), 0.0);
-    EXPECT_EQ(f(i, 2), 0.0);
+    if (fluid && testing::has_host_arithmetic<Exec>())
+      EXPECT_DOUBLE_EQ(f(i, 0), 0.01 * mass(i)) << "particle " << i << " of type " << type(i);
+    else
+      EXPECT_TRUE((testing::agrees_with_host<Exec, double>(f(i, 0), fluid ? 0.01 * mass(i) : 0.0, 1000, 1.0)))
+          << "particle " << i << " of type " << type(i);
+    EXPECT_TRUE((testing::agrees_with_host<Exec, double>(f(i, 1), 0.0, 1000, 1.0))) << "particle " << i;
+    EXPECT_TRUE((testing::agrees_with_host<Exec, double>(f(i, 2), 0.0, 1000, 1.0))) << "particle " << i;
   }
 }
 

@@ -271,10 +271,14 @@ TEST(SphFlow, WallParticlesNeverMove) {
   EXPECT_GT(wall_rate, 0.0);
 }
 
-// Full lists, each row summed in list order: every backend and thread count gives the same bits,
-// memory sorts included (every 2nd rebuild here). (Half lists, the default, are reproducible at a
-// fixed thread count only.)
-TYPED_TEST(SphFlowTest, BitwiseIdenticalOnEveryBackend) {
+// Full lists, each row summed in list order: every host backend and thread count gives the same
+// bits over 150 steps, memory sorts included (every 2nd rebuild here). (Half lists, the default, are
+// reproducible at a fixed thread count only.) A device compiler contracts a*b + c into FMAs, so there
+// the trajectories part in the last bits and then diverge as any two flows do: one step is compared
+// instead, within testing::agrees_with_host's bound — about 60 neighbors × 50 operations per
+// particle, at the scales of the step's intermediates (x: the box, 16 spacings; v: 10 c0, the
+// pressure terms' size; ρ: 60 ρ0, the density sum).
+TYPED_TEST(SphFlowTest, BitwiseIdenticalOnHostBackendsAndWithinContractionOnDevices) {
   using Exec = typename TypeParam::exec;
   using Real = typename TypeParam::real;
   ChannelSetup s;
@@ -282,11 +286,13 @@ TYPED_TEST(SphFlowTest, BitwiseIdenticalOnEveryBackend) {
   s.list = NeighborListKind::full;
   auto a = make_channel<Real, Exec>(s);
   auto b = make_channel<Real, Kokkos::DefaultHostExecutionSpace>(s);
-  for (int k = 0; k < 150; ++k) {
+  const bool bitwise = testing::has_host_arithmetic<Exec>();
+  const int steps = bitwise ? 150 : 1;
+  for (int k = 0; k < steps; ++k) {
     a.sys.step();
     b.sys.step();
   }
-  EXPECT_GT(a.sys.num_sorts(), 0);
+  if (bitwise) EXPECT_GT(a.sys.num_sorts(), 0);
   EXPECT_EQ(a.sys.num_sorts(), b.sys.num_sorts());
   const auto xa = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), a.sys.particles.x);
   const auto xb = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), b.sys.particles.x);
@@ -294,11 +300,12 @@ TYPED_TEST(SphFlowTest, BitwiseIdenticalOnEveryBackend) {
   const auto vb = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), b.sys.particles.v);
   const auto ra = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), a.sys.rho);
   const auto rb = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), b.sys.rho);
+  const int operations = 60 * 50;
   for (std::size_t i = 0; i < xa.extent(0); ++i) {
-    ASSERT_EQ(ra(i), rb(i)) << i;
+    ASSERT_TRUE((testing::agrees_with_host<Exec, Real>(ra(i), rb(i), operations, 60.0))) << i;
     for (int d = 0; d < 3; ++d) {
-      ASSERT_EQ(xa(i, d), xb(i, d)) << i;
-      ASSERT_EQ(va(i, d), vb(i, d)) << i;
+      ASSERT_TRUE((testing::agrees_with_host<Exec, Real>(xa(i, d), xb(i, d), operations, 16.0))) << i;
+      ASSERT_TRUE((testing::agrees_with_host<Exec, Real>(va(i, d), vb(i, d), operations, 10 * a.c0))) << i;
     }
   }
 }
