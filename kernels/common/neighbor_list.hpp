@@ -29,6 +29,7 @@
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 
 namespace mesoflow {
 
@@ -36,22 +37,29 @@ enum class NeighborListKind { full, half };
 enum class BodyExclusion { none, same_body };
 
 // What a kernel needs from a neighbor list, copied by value into lambdas: pointers into the list's
-// Views and the index array's strides (56 bytes; kernels/common/kernel_launch.hpp), valid until the
+// Views and the index array's outer stride (48 bytes; kernels/common/kernel_launch.hpp), valid until the
 // list's next build. Rows are stored in cell order (row r holds the neighbors of particle
 // particle(r)), so a build writes them sequentially whatever the order of the particle arrays; loop
 // over rows, not particles.
 template <class ExecSpace>
 struct NeighborData {
+  // The index array's layout: the execution space's default (row-major on host backends, so a row's
+  // neighbors are contiguous; column-major on GPUs, so a warp's rows are). The unit stride stays a
+  // compile-time constant; the other one is `stride`.
+  static constexpr bool row_major =
+      std::is_same<typename Kokkos::View<int**, ExecSpace>::array_layout, Kokkos::LayoutRight>::value;
   const int* row_particle;
   const int* count;
-  const int* index;  // neighbor k of row r: index[r * row_stride + k * slot_stride] (any layout)
+  const int* index;  // neighbor k of row r: index[r * stride + k] (row-major) or index[r + k * stride]
   const int* inner;  // neighbors within the inner cutoff + skin (front of the row)
-  long row_stride, slot_stride;
+  long stride;
   int rows;
   KOKKOS_INLINE_FUNCTION int particle(int row) const { return row_particle[row]; }
   KOKKOS_INLINE_FUNCTION int num_neighbors(int row) const { return count[row]; }
   KOKKOS_INLINE_FUNCTION int num_inner_neighbors(int row) const { return inner[row]; }
-  KOKKOS_INLINE_FUNCTION int neighbor(int row, int k) const { return index[row * row_stride + k * slot_stride]; }
+  KOKKOS_INLINE_FUNCTION int neighbor(int row, int k) const {
+    return row_major ? index[row * stride + k] : index[row + k * stride];
+  }
   int num_rows() const { return rows; }
 };
 
@@ -146,8 +154,10 @@ class NeighborList {
 
   NeighborViews<ExecSpace> views() const { return {cells_.cell_particles(), count_, index_, inner_}; }
   NeighborData<ExecSpace> data() const {
+    static_assert(std::is_same<typename decltype(index_)::array_layout,
+                               typename Kokkos::View<int**, ExecSpace>::array_layout>::value);
     return {cells_.cell_particles().data(), count_.data(), index_.data(), inner_.data(),
-            long(index_.stride(0)), long(index_.stride(1)), int(count_.extent(0))};
+            long(NeighborData<ExecSpace>::row_major ? index_.stride(0) : index_.stride(1)), int(count_.extent(0))};
   }
   NeighborListKind kind() const { return kind_; }
   BodyExclusion exclusion() const { return exclusion_; }

@@ -22,7 +22,7 @@ TYPED_TEST_SUITE(KernelLaunchTest, testing::BackendsAndPrecisions);
 static_assert(sizeof(ObstacleArrayQuery<double>) <= 160, "the obstacle array's device handle grew");
 static_assert(sizeof(BodyObstacleQuery<double>) <= 200, "the body obstacle list's device handle grew");
 static_assert(sizeof(BodySurfaces<double>) <= 224, "BodySurfaces grew");
-static_assert(sizeof(NeighborData<Kokkos::DefaultExecutionSpace>) <= 64, "NeighborData grew");
+static_assert(sizeof(NeighborData<Kokkos::DefaultExecutionSpace>) <= 48, "NeighborData grew");
 static_assert(sizeof(PeriodicImages<3, double>) <= 56, "PeriodicImages grew");
 static_assert(kernel_closure_fits<BodySurfaces<double>>());
 
