@@ -9,6 +9,7 @@
 #include <benchmark/benchmark.h>
 
 #include "scenes/droplets/droplet_scene.hpp"
+#include "scenes/droplets/obstacles_ensemble.hpp"
 #include "kernels/common/geometry.hpp"
 #include "kernels/dp/bending_force.hpp"
 #include "kernels/sp/obstacle_repulsion.hpp"
@@ -17,6 +18,7 @@
 #include <chrono>
 #include <cmath>
 #include <optional>
+#include <numeric>
 #include <random>
 
 namespace mesoflow::droplets {
@@ -148,6 +150,79 @@ void BM_OrificeSceneTerms(benchmark::State& state) {
   state.SetLabel(names[mode]);
 }
 
+// A clogging sweep (issue 25 item 3) in the regime of the paper's sweeps: most replicas clog at
+// exponentially spread distances, some run to the time limit. `points` values of Γ from 1 to 10
+// (log-spaced, K_l/Γ = 0.1) at w_ob = 0.2σ, σ_ob = 0.3σ, φ = 0.05 (L = 20σ), `replicas` replicas
+// each, N_v = 256, V_t = 0.25 and T = 100 t0 (time-scaled: mean clog times 25–40 t0, where the
+// paper's λ = 24σ takes ~400 t0 of T = 2000 t0), the early clog test with a 1 t0 window.
+// Mode 0 runs the points one after another (a batch of `replicas` per point, each batch ending with
+// its slowest replica); mode 1 runs the whole sweep in one batch of `replicas` slots, refilled and
+// compacted (run_sweep_batched). Both give the same records (one w_ob), so items = the useful
+// vertex-steps (each replica's steps to its end × N_v) compare the schedules directly; the
+// `stepped_fraction` counter is useful / stepped vertex-steps (the relaxations are timed too).
+// Minutes per mode: perf/run leaves it out; run it with --benchmark_filter=BM_ObstacleSweep.
+void BM_ObstacleSweep(benchmark::State& state) {
+  const bool batched = state.range(0) == 1;
+  const int points = int(state.range(1)), replicas = int(state.range(2)), vertices = int(state.range(3));
+  std::vector<ObstacleEnsembleParameters> scenes;
+  for (int p = 0; p < points; ++p) {
+    const double gamma = points > 1 ? std::pow(10.0, double(p) / (points - 1)) : 1.0;
+    ObstacleEnsembleParameters par;
+    par.droplet.vertices = vertices;
+    par.droplet.line_tension = gamma;
+    par.droplet.perimeter_stiffness = 0.1 * gamma;
+    par.droplet.near_wall_drag = 0;
+    par.droplet.terminal_speed = 0.25;
+    par.box_length = 20;
+    par.obstacle_fraction = 0.05;
+    par.gap = 0.2;
+    par.time_limit = 100;
+    par.clog_test = ClogTest::early;
+    par.early.sample_interval = 0.05;
+    par.early.window = 1;
+    par.relax_iterations = 2000;
+    scenes.push_back(par);
+  }
+  std::vector<int> all(static_cast<std::size_t>(replicas));
+  std::iota(all.begin(), all.end(), 0);
+  double useful = 0, stepped = 0;
+  for (auto _ : state) {
+    useful = stepped = 0;
+    const auto count = [&](std::size_t p, int, std::uint64_t, const ReplicaRecord& r) {
+      useful += std::round(r.time / ObstacleSweep::time_step(scenes[p])) * vertices;
+    };
+    Kokkos::fence();
+    const auto t0 = std::chrono::steady_clock::now();
+    if (batched) {
+      const auto stats = run_sweep_batched<double>(scenes, std::vector<std::vector<int>>(std::size_t(points), all), 3,
+                                                   replicas, count, [](long long) {});
+      stepped += double(stats.replica_steps) * vertices;
+    } else {
+      for (int p = 0; p < points; ++p) {
+        std::vector<std::uint64_t> seeds;
+        for (const int j : all) seeds.push_back(replica_seed(3, j));
+        long long last = 0;
+        run_obstacle_batch<double>(
+            scenes[std::size_t(p)], seeds, [&](int k, const ReplicaRecord& r) { count(std::size_t(p), k, 0, r); },
+            [&](long long s) { last = s; });
+        stepped += double(last) * replicas * vertices;
+      }
+    }
+    Kokkos::fence();
+    state.SetIterationTime(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+  }
+  state.SetItemsProcessed(int64_t(useful) * int64_t(state.iterations()));
+  state.counters["stepped_fraction"] = stepped > 0 ? useful / stepped : 0.0;
+  state.SetLabel(batched ? "one batch, refilled" : "point by point");
+}
+
+BENCHMARK(BM_ObstacleSweep)
+    ->ArgNames({"batched", "points", "replicas", "Nv"})
+    ->Args({0, 10, 50, 256})
+    ->Args({1, 10, 50, 256})
+    ->Iterations(1)
+    ->UseManualTime()
+    ->Unit(benchmark::kSecond);
 BENCHMARK(BM_ShapeForcesAllTerms)->UseManualTime()->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_OrificeSceneTerms)->DenseRange(0, 3)->UseManualTime()->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_SoftParticleSurfaceForces)->Arg(65536)->UseManualTime()->Unit(benchmark::kMillisecond);

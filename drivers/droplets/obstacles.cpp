@@ -27,9 +27,17 @@
 // <out>.json (run summary), <out>.ckpt.h5 (finished replicas, replaced atomically as they
 // finish; --restart resumes a killed sweep from it without recomputing them).
 //
+// Scheduling (DP): --schedule sweep (the default) runs every (point, replica) of the sweep in one
+// batch of --batch slots, each droplet with its point's Γ, K_l and time step, a finished replica's
+// slot refilled with the next and the batch compacted once the queue is empty
+// (scenes/droplets/obstacles_ensemble.hpp, run_sweep_batched); --schedule points runs one batch of a
+// point after another, each ending with its slowest replica. A replica's record does not depend on
+// the schedule when the sweep has one w_ob (with several, the obstacle grid of the smallest serves
+// all and the records move in their last bits). SP sweeps run point by point.
+//
 // Under mpirun/srun (docs/scale-out.md) the sweep's work items, (point, replica) pairs in
 // point-major order less those already finished, are dealt round robin to the ranks
-// (drivers/common/ensemble_mpi.hpp); each rank runs its share in batches as above and records what
+// (drivers/common/ensemble_mpi.hpp); each rank runs its share as above and records what
 // it finishes in its own <out>.rank<r>.ckpt.h5 (replaced atomically). Rank 0 gathers the records,
 // writes the files above and merges the rank checkpoints into <out>.ckpt.h5, then removes them.
 // --restart reads <out>.ckpt.h5 and every <out>.rank<r>.ckpt.h5, whatever the number of ranks now.
@@ -56,6 +64,7 @@ struct Parameters {
   std::string sp_wall_energy = "10";   // E_w list (SP)
   std::string gap = "0.2";             // w_ob list
   std::string clog_test = "full";      // full, early or both (scenes/droplets/clog_detection.hpp)
+  std::string schedule = "sweep";      // DP: sweep (one batch for every point, refilled) or points
   int replicas = 16;
   double confidence = 0.95;
   ObstacleSweep sweep;                 // the scene of every point but (strength, w_ob)
@@ -104,7 +113,38 @@ void run(const Parameters& par, const cli::DriverApp& app, const std::vector<Swe
   std::vector<FinishedReplica> fresh;
   const auto t_start = std::chrono::steady_clock::now();
   std::optional<cli::ProgressLine> progress;
-  const SweepSteps steps = run_sweep_points(
+  const auto record = [&](std::size_t p, int replica, std::uint64_t seed, const ReplicaRecord& r) {
+    fresh.push_back({int(p), replica, seed, r.clogged, r.distance, r.time, r.final_x, r.final_y, r.steady_speed,
+                     r.early, r.early_distance, r.early_time, r.early_rate, r.early_crossing});
+    if (ranks.size() == 1) {
+      done.push_back(fresh.back());
+      write_replica_checkpoint(out.checkpoint, parameters, done);
+    } else {
+      write_replica_checkpoint(rank_checkpoint(out.checkpoint, ranks.rank()), parameters, fresh);
+    }
+  };
+  SweepSteps steps;
+  if (!sp && par.schedule == "sweep") {
+    // Every (point, replica) of this rank's share in one refilled batch (run_sweep_batched).
+    std::vector<ObstacleEnsembleParameters> scenes;
+    long long total = 0, items = 0;
+    for (std::size_t p = 0; p < points.size(); ++p) {
+      scenes.push_back(par.sweep.at(points[p].strength, points[p].gap));
+      total += (long long)(todo[p].size()) * (long long)std::ceil(par.sweep.time_limit / ObstacleSweep::time_step(scenes.back()));
+      items += (long long)(todo[p].size());
+    }
+    if (items > 0) {
+      progress.emplace(total, par.sweep.bodies(), talk);
+      if (talk)
+        std::cerr << "obstacles: " << items << " replicas of " << points.size() << " points in one batch of "
+                  << std::min<long long>(items, par.sweep.batch) << " slots\n";
+      const BatchedSweepStats stats = run_sweep_batched<double>(scenes, todo, std::uint64_t(par.seed), par.sweep.batch,
+                                                                record, [&](long long s) { progress->update(s); });
+      steps.steps = stats.steps;
+      steps.replica_steps = stats.replica_steps;
+    }
+  } else {
+  steps = run_sweep_points(
       par.sweep, at, todo, std::uint64_t(par.seed),
       [&](std::size_t p, const std::vector<int>& batch, long long batch_steps) {
         if (progress) progress->finish();
@@ -114,17 +154,8 @@ void run(const Parameters& par, const cli::DriverApp& app, const std::vector<Swe
                     << points[p].strength << ", w_ob = " << points[p].gap << "), replicas " << batch.front() << ".."
                     << batch.back() << "\n";
       },
-      [&](std::size_t p, int replica, std::uint64_t seed, const ReplicaRecord& r) {
-        fresh.push_back({int(p), replica, seed, r.clogged, r.distance, r.time, r.final_x, r.final_y, r.steady_speed,
-                         r.early, r.early_distance, r.early_time, r.early_rate, r.early_crossing});
-        if (ranks.size() == 1) {
-          done.push_back(fresh.back());
-          write_replica_checkpoint(out.checkpoint, parameters, done);
-        } else {
-          write_replica_checkpoint(rank_checkpoint(out.checkpoint, ranks.rank()), parameters, fresh);
-        }
-      },
-      [&](long long s) { progress->update(s); });
+      record, [&](long long s) { progress->update(s); });
+  }
   if (progress) progress->finish();
   // Rank 0 gathers every rank's records and writes the outputs; the other ranks are done.
   const std::size_t computed = std::size_t(ranks.sum((long long)(fresh.size())));
@@ -164,6 +195,7 @@ void run(const Parameters& par, const cli::DriverApp& app, const std::vector<Swe
   json["steps_run"] = steps_run;
   json["wall_seconds"] = cli::summary_number(wall);
   json["clog_test"] = par.clog_test;
+  json["schedule"] = sp ? std::string("points") : par.schedule;
   const ClogTestTotals totals = clog_test_totals(done);  // simulated time to the record and to the early decision
   json["replica_time_recorded"] = cli::summary_number(totals.recorded);
   if (par.clog_test != "full") {
@@ -197,6 +229,10 @@ int main(int argc, char** argv) {
   app.add_string("--gap", par.gap, "sweep: minimum obstacle gaps w_ob/σ, comma-separated, each in [0.01, 10]");
   app.add_int("--replicas", par.replicas, "replicas N_s per sweep point (each its own obstacle array)", 1, 100000);
   app.add_int("--batch", par.sweep.batch, "replicas advanced together in one set of kernel launches", 1, 100000);
+  app.add_choice("--schedule", par.schedule,
+                 "DP: sweep (every point's replicas in one batch of --batch slots, refilled as replicas finish, "
+                 "each at its own time step) or points (one batch after another, point by point); SP: points",
+                 {"sweep", "points"});
   app.add_real("--box-length", par.sweep.box_length, "side L/σ of the periodic box", 10.0, 2000.0);
   app.add_real("--obstacle-diameter", par.sweep.obstacle_diameter, "obstacle diameter σ_ob/σ", 0.01, 10.0);
   app.add_real("--obstacle-fraction", par.sweep.obstacle_fraction,

@@ -23,8 +23,10 @@
 #include "particles.hpp"
 #include "vec.hpp"
 
+#include <array>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace mesoflow {
 
@@ -123,6 +125,7 @@ class BodyObstacleList {
     reference_ = Kokkos::View<Real* [3], Kokkos::LayoutRight, ExecSpace>("mesoflow::body_obstacle_list::reference", nb);
     count_ = int_view("mesoflow::body_obstacle_list::count", nb + 1);
     stale_ = int_view("mesoflow::body_obstacle_list::stale", nb);
+    forced_ = int_view("mesoflow::body_obstacle_list::forced", nb);
   }
 
   // Bodies whose obstacle array is outside [0, num_arrays). (A function of its own: nvcc rejects a
@@ -152,6 +155,44 @@ class BodyObstacleList {
   template <class PositionView>
   void build(const PositionView& x) {
     Kokkos::deep_copy(stale_, 1);
+    rebuild(x);
+  }
+
+  // Puts body b in obstacle array `array` (a batch refilling a slot with a new replica): its reference
+  // disk moves and its candidates are rebuilt at the next update(). Host setup.
+  void reassign(int b, int array) {
+    if (b < 0 || b >= num_bodies())
+      throw std::invalid_argument("body obstacle list: body " + std::to_string(b) + " outside [0, " +
+                                  std::to_string(num_bodies()) + ")");
+    if (array < 0 || array >= obstacles_.num_arrays())
+      throw std::invalid_argument("body obstacle list: obstacle array " + std::to_string(array) + " outside [0, " +
+                                  std::to_string(obstacles_.num_arrays()) + ")");
+    Kokkos::deep_copy(Kokkos::subview(body_array_, b), array);
+    Kokkos::deep_copy(Kokkos::subview(forced_, b), 1);
+  }
+
+  // The reference disks (c_b, R_b) of every body, host copy: with the body arrays, what fixes each
+  // body's candidates (a body moved to another list with build_at() gets the same candidates).
+  std::vector<std::array<double, 3>> references() const {
+    const auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), reference_);
+    std::vector<std::array<double, 3>> out(h.extent(0));
+    for (std::size_t b = 0; b < h.extent(0); ++b) out[b] = {double(h(b, 0)), double(h(b, 1)), double(h(b, 2))};
+    return out;
+  }
+
+  // Builds every body's candidates from the given reference disks (instead of moving them to the
+  // current particles): the list then equals, body for body, the one the disks came from.
+  template <class PositionView>
+  void build_at(const std::vector<std::array<double, 3>>& disks, const PositionView& x) {
+    if (int(disks.size()) != num_bodies())
+      throw std::invalid_argument("body obstacle list: " + std::to_string(disks.size()) + " reference disks for " +
+                                  std::to_string(num_bodies()) + " bodies");
+    const auto h = Kokkos::create_mirror_view(reference_);
+    for (std::size_t b = 0; b < disks.size(); ++b)
+      for (int k = 0; k < 3; ++k) h(b, k) = Real(disks[b][std::size_t(k)]);
+    Kokkos::deep_copy(reference_, h);
+    Kokkos::deep_copy(stale_, 0);
+    Kokkos::deep_copy(forced_, 0);
     rebuild(x);
   }
 
@@ -255,13 +296,16 @@ class BodyObstacleList {
     const auto offset = body_offset_;
     const auto reference = reference_;
     const auto stale = stale_;
+    const auto forced = forced_;
     const Real skin = skin_;
     int outside = 0;
     mesoflow::launch::parallel_reduce(
         "mesoflow::body_obstacle_list::check", Kokkos::RangePolicy<ExecSpace>(0, num_bodies()),
         KOKKOS_LAMBDA(int b, int& acc) {
           const Real limit = reference(b, 2) + skin;
-          int left = 0;
+          int left = forced(b);
+          forced(b) = 0;
+          if (!left)
           for (int i = offset(b); i < offset(b + 1); ++i) {
             const Real dx = x(i, 0) - reference(b, 0), dy = x(i, 1) - reference(b, 1);
             if (dx * dx + dy * dy > limit * limit) {
@@ -305,6 +349,7 @@ class BodyObstacleList {
   Kokkos::View<Real* [3], Kokkos::LayoutRight, ExecSpace> reference_;  // c_b (x, y) and R_b per body
   int_view count_;                                 // CSR offsets of the candidates, per body
   int_view stale_;                                 // 1: the body's reference disk moves at the next rebuild
+  int_view forced_;                                // 1: stale at the next update whatever its particles do
   Kokkos::View<Real* [2], Kokkos::LayoutRight, ExecSpace> candidates_;
   int builds_ = 0;
 };

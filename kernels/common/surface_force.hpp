@@ -16,6 +16,9 @@
 //     and are called once for every wall shape and every obstacle within reach of the particle, so
 //     their energy is a sum of smooth pair terms (the nearest alone would make the force jump where
 //     the nearest of two overlapping surfaces changes).
+// A term that declares `static constexpr bool per_particle = true` takes the particle index first,
+// evaluate(i, s, v, force, energy) / evaluate_pair(i, s, force, energy): per-body coefficients
+// (dp/per_body.hpp).
 // The query of a call with pairwise terms, nearest_within(i, x, reach, visit), returns the nearest
 // surface and calls visit(s) for every surface at distance < reach, in a fixed order. Each particle
 // writes only its own force: deterministic at any thread count, no atomics.
@@ -48,14 +51,24 @@ struct IsPairwise<Term, std::enable_if_t<Term::pairwise>> {
   static constexpr bool value = true;
 };
 
+// Whether Term takes the particle index (declares `static constexpr bool per_particle = true`).
+template <class Term, class = void>
+struct IsPerParticle {
+  static constexpr bool value = false;
+};
+template <class Term>
+struct IsPerParticle<Term, std::enable_if_t<Term::per_particle>> {
+  static constexpr bool value = true;
+};
+
 template <>
 struct TermList<> {
   static constexpr bool any_pairwise = false;
   template <class Real>
-  KOKKOS_INLINE_FUNCTION void evaluate(const SurfacePoint<2, Real>&, const Vec<2, Real>&, Vec<2, Real>&,
+  KOKKOS_INLINE_FUNCTION void evaluate(int, const SurfacePoint<2, Real>&, const Vec<2, Real>&, Vec<2, Real>&,
                                        double&) const {}
   template <class Real>
-  KOKKOS_INLINE_FUNCTION void evaluate_pair(const SurfacePoint<2, Real>&, Vec<2, Real>&, double&) const {}
+  KOKKOS_INLINE_FUNCTION void evaluate_pair(int, const SurfacePoint<2, Real>&, Vec<2, Real>&, double&) const {}
   template <class Real>
   Real reach() const {
     return Real(0);
@@ -65,24 +78,35 @@ struct TermList<> {
 template <class Head, class... Tail>
 struct TermList<Head, Tail...> {
   static constexpr bool head_pairwise = IsPairwise<Head>::value;
+  static constexpr bool head_per_particle = IsPerParticle<Head>::value;
   static constexpr bool any_pairwise = head_pairwise || TermList<Tail...>::any_pairwise;
   Head head;
   TermList<Tail...> tail;
 
-  // The nearest-surface terms.
+  // The nearest-surface terms, for particle i.
   template <class Real>
-  KOKKOS_INLINE_FUNCTION void evaluate(const SurfacePoint<2, Real>& s, const Vec<2, Real>& v,
+  KOKKOS_INLINE_FUNCTION void evaluate(int i, const SurfacePoint<2, Real>& s, const Vec<2, Real>& v,
                                        Vec<2, Real>& force, double& energy) const {
-    if constexpr (!head_pairwise) head.evaluate(s, v, force, energy);
-    tail.evaluate(s, v, force, energy);
+    if constexpr (!head_pairwise) {
+      if constexpr (head_per_particle)
+        head.evaluate(i, s, v, force, energy);
+      else
+        head.evaluate(s, v, force, energy);
+    }
+    tail.evaluate(i, s, v, force, energy);
   }
 
-  // The pairwise terms, for one surface within reach.
+  // The pairwise terms, for one surface within reach of particle i.
   template <class Real>
-  KOKKOS_INLINE_FUNCTION void evaluate_pair(const SurfacePoint<2, Real>& s, Vec<2, Real>& force,
+  KOKKOS_INLINE_FUNCTION void evaluate_pair(int i, const SurfacePoint<2, Real>& s, Vec<2, Real>& force,
                                             double& energy) const {
-    if constexpr (head_pairwise) head.evaluate_pair(s, force, energy);
-    tail.evaluate_pair(s, force, energy);
+    if constexpr (head_pairwise) {
+      if constexpr (head_per_particle)
+        head.evaluate_pair(i, s, force, energy);
+      else
+        head.evaluate_pair(s, force, energy);
+    }
+    tail.evaluate_pair(i, s, force, energy);
   }
 
   // Largest reach of the pairwise terms (host).
@@ -116,11 +140,11 @@ struct SurfaceForceKernel {
     if constexpr (Terms::any_pairwise) {
       const SurfacePoint<2, Real> s =
           surfaces.nearest_within(i, xi, reach, [&](const SurfacePoint<2, Real>& near) {
-            terms.evaluate_pair(near, fi, energy);
+            terms.evaluate_pair(i, near, fi, energy);
           });
-      terms.evaluate(s, Vec<2, Real>::load(v, i), fi, energy);
+      terms.evaluate(i, s, Vec<2, Real>::load(v, i), fi, energy);
     } else {
-      terms.evaluate(surfaces.nearest(i, xi), Vec<2, Real>::load(v, i), fi, energy);
+      terms.evaluate(i, surfaces.nearest(i, xi), Vec<2, Real>::load(v, i), fi, energy);
     }
     for (int d = 0; d < 2; ++d) f(i, d) += fi[d];
   }

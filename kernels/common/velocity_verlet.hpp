@@ -39,10 +39,43 @@ class VelocityVerlet {
   Real dt() const { return dt_; }
   Real lambda() const { return lambda_; }
 
+  // Per-particle time steps: particle i advances by particle_dt(i) (each body of a batch at its own
+  // stability limit; the arithmetic of each particle is that of a uniform step of its Δt). An empty
+  // View returns to the uniform dt().
+  void set_particle_time_steps(const Kokkos::View<Real*, ExecSpace>& particle_dt) { particle_dt_ = particle_dt; }
+  const Kokkos::View<Real*, ExecSpace>& particle_time_steps() const { return particle_dt_; }
+
   void first_half(const Particles<D, Real, ExecSpace>& p) {
     const auto x = p.x, v = p.v, f = p.f;
     const auto m = p.mass;
     const Real half_dt = Real(0.5) * dt_, dt = dt_;
+    if (particle_dt_.extent(0) > 0) {
+      check_particle_dt(p);
+      const auto pdt = particle_dt_;
+      if (lambda_ != Real(0.5) && v_pred_.extent(0) != p.size())
+        v_pred_ = vector_view(Kokkos::ViewAllocateWithoutInitializing("mesoflow::velocity_verlet::v_pred"), p.size());
+      const auto vp = v_pred_;
+      const Real lambda = lambda_;
+      const bool predict = lambda_ != Real(0.5);
+      mesoflow::launch::parallel_for(
+          "mesoflow::velocity_verlet::first_half_per_particle", Kokkos::RangePolicy<ExecSpace>(0, p.size()),
+          KOKKOS_LAMBDA(int i) {
+            const Real inv_m = Real(1) / m(i);
+            const Real dt_i = pdt(i), half_dt_i = Real(0.5) * dt_i;
+            // The uniform kernels' arithmetic, term for term (bitwise the same at equal Δt).
+            for (int d = 0; d < D; ++d) {
+              if (predict) {
+                const Real a = f(i, d) * inv_m;
+                vp(i, d) = v(i, d) + (lambda * dt_i) * a;
+                v(i, d) += half_dt_i * a;
+              } else {
+                v(i, d) += half_dt_i * f(i, d) * inv_m;
+              }
+              x(i, d) += dt_i * v(i, d);
+            }
+          });
+      return;
+    }
     if (lambda_ == Real(0.5)) {
       mesoflow::launch::parallel_for(
           "mesoflow::velocity_verlet::first_half", Kokkos::RangePolicy<ExecSpace>(0, p.size()),
@@ -81,6 +114,18 @@ class VelocityVerlet {
     const auto v = p.v, f = p.f;
     const auto m = p.mass;
     const Real half_dt = Real(0.5) * dt_;
+    if (particle_dt_.extent(0) > 0) {
+      check_particle_dt(p);
+      const auto pdt = particle_dt_;
+      mesoflow::launch::parallel_for(
+          "mesoflow::velocity_verlet::second_half_per_particle", Kokkos::RangePolicy<ExecSpace>(0, p.size()),
+          KOKKOS_LAMBDA(int i) {
+            const Real inv_m = Real(1) / m(i);
+            const Real half_dt_i = Real(0.5) * pdt(i);
+            for (int d = 0; d < D; ++d) v(i, d) += half_dt_i * f(i, d) * inv_m;
+          });
+      return;
+    }
     mesoflow::launch::parallel_for(
         "mesoflow::velocity_verlet::second_half", Kokkos::RangePolicy<ExecSpace>(0, p.size()),
         KOKKOS_LAMBDA(int i) {
@@ -90,8 +135,15 @@ class VelocityVerlet {
   }
 
  private:
+  void check_particle_dt(const Particles<D, Real, ExecSpace>& p) const {
+    if (particle_dt_.extent(0) != p.size())
+      throw std::invalid_argument("velocity_verlet: " + std::to_string(particle_dt_.extent(0)) +
+                                  " per-particle time steps for " + std::to_string(p.size()) + " particles");
+  }
+
   Real dt_, lambda_;
   vector_view v_pred_;
+  Kokkos::View<Real*, ExecSpace> particle_dt_;  // empty: the uniform dt_
 };
 
 // Folds positions back into the box on its periodic axes (bounded axes untouched).

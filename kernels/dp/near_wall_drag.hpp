@@ -29,6 +29,7 @@ struct NearWallDrag {
   Real d_floor;           // smallest d_i used in eq. 6
   bool four_thirds;       // α = 4/3 exactly
 
+  NearWallDrag() = default;  // for per-body Views (per_body.hpp); assign a constructed value before use
   // b∞ ≥ 0, b0 ≥ 0, σ > 0, N_v ≥ 1 vertices per droplet, α > 0, d_floor = d_floor_over_sigma · σ > 0.
   NearWallDrag(Real b_inf, Real b0, Real sigma_, int num_vertices, Real alpha_ = Real(4) / Real(3),
                Real d_floor_over_sigma = Real(0.01)) {

@@ -97,7 +97,7 @@ double vertex_loop(const char* label, const Polygons<Real, ExecSpace>& polygons,
         s.pos[4] = Vec2<Real>::load(x, next_vertex(i, 2, begin, n));
         s.mass = mass(i);
         s.derive_edges();
-        const BodyShape<Real> shape{area(b), a0(b), l0(b), n};
+        const BodyShape<Real> shape{area(b), a0(b), l0(b), n, b};
         Vec2<Real> fi = Vec2<Real>::zero();
         term_list.add(s, shape, fi, e_acc);
         // `if`, not `if constexpr`: nvcc rejects a KOKKOS_LAMBDA whose first use of a captured

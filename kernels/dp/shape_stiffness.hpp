@@ -24,10 +24,20 @@
 
 namespace mesoflow::dp {
 
-// The largest Σ_i |∇_i a|² (length²) over the bodies.
-template <class Real, class ExecSpace>
-double measure_area_gradient_squared(const Polygons<Real, ExecSpace>& polygons,
-                                     const Particles<2, Real, ExecSpace>& p) {
+namespace shape_stiffness_detail {
+struct Unweighted {
+  KOKKOS_INLINE_FUNCTION double operator()(int) const { return 1.0; }
+};
+template <class ExecSpace>
+struct PerBodyWeight {
+  Kokkos::View<double*, ExecSpace> weight;
+  KOKKOS_INLINE_FUNCTION double operator()(int b) const { return weight(b); }
+};
+
+// The largest weight(b) Σ_i |∇_i a|² over the bodies.
+template <class Real, class ExecSpace, class Weight>
+double largest_weighted(const Polygons<Real, ExecSpace>& polygons, const Particles<2, Real, ExecSpace>& p,
+                        const Weight& weight) {
   const auto offset = polygons.offset;
   const auto x = p.x;
   double largest_sum = 0;
@@ -42,10 +52,27 @@ double measure_area_gradient_squared(const Polygons<Real, ExecSpace>& polygons,
           const double dy = double(x(next, 1)) - double(x(prev, 1));
           sum += 0.25 * (dx * dx + dy * dy);
         }
+        sum *= weight(b);
         if (sum > largest) largest = sum;
       },
       Kokkos::Max<double>(largest_sum));
   return largest_sum;
+}
+}  // namespace shape_stiffness_detail
+
+// The largest Σ_i |∇_i a|² (length²) over the bodies.
+template <class Real, class ExecSpace>
+double measure_area_gradient_squared(const Polygons<Real, ExecSpace>& polygons,
+                                     const Particles<2, Real, ExecSpace>& p) {
+  return shape_stiffness_detail::largest_weighted(polygons, p, shape_stiffness_detail::Unweighted{});
+}
+
+// The largest w_b Σ_i |∇_i a|² over the bodies, w_b = weight(b): bodies stepped at their own Δt_b
+// weigh (Δt_b/Δt_ref)², so that one comparison at Δt_ref checks every body at its own step.
+template <class Real, class ExecSpace>
+double measure_area_gradient_squared(const Polygons<Real, ExecSpace>& polygons, const Particles<2, Real, ExecSpace>& p,
+                                     const Kokkos::View<double*, ExecSpace>& weight) {
+  return shape_stiffness_detail::largest_weighted(polygons, p, shape_stiffness_detail::PerBodyWeight<ExecSpace>{weight});
 }
 
 }  // namespace mesoflow::dp

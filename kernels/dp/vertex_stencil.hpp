@@ -70,13 +70,14 @@ struct VertexStencil {
 };
 
 // The body of vertex i: current area a (from update_body_state), preferred area a0, preferred edge
-// length l0 and number of vertices N_v.
+// length l0, number of vertices N_v, and the body's index (per-body coefficients, per_body.hpp).
 template <class Real>
 struct BodyShape {
   Real area;
   Real a0;
   Real l0;
   int nv;
+  int index = 0;
 };
 
 template <class Real>

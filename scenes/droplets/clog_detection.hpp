@@ -28,8 +28,11 @@
 // (validation) the threshold only, with the early decision recorded on the side, so one run gives
 // both classifications and both (r, t) pairs of every replica.
 //
-// All state lives in Views and observe() is one kernel over the replicas, so nothing crosses to the
-// host during a run except the count of running replicas, when asked for.
+// Each replica has its own clock (steps run, its own Δt), limits (E_t, v_t, T) and records, so one
+// detector serves a batch that mixes sweep points and refills finished slots with new replicas
+// (restart) or drops them (compacted). All state lives in Views and observe() is one kernel over
+// the replicas, so nothing crosses to the host during a run except the count of running replicas,
+// when asked for.
 #pragma once
 
 #include "kernels/common/kernel_launch.hpp"
@@ -40,6 +43,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <numeric>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -132,17 +136,41 @@ KOKKOS_INLINE_FUNCTION double window_slope(const Ring& ring, int b, int count, i
   }
   return slope;
 }
+// dst(k, …) = src(keep[k], …) for Views of rank 1 to 3 (host round trip; compaction only).
+template <class View>
+void gather_rows(const View& src, const View& dst, const std::vector<int>& keep) {
+  const auto s = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), src);
+  const auto d = Kokkos::create_mirror_view(dst);
+  for (std::size_t k = 0; k < keep.size(); ++k) {
+    const std::size_t b = std::size_t(keep[k]);
+    if constexpr (View::rank == 1) {
+      d(k) = s(b);
+    } else if constexpr (View::rank == 2) {
+      for (std::size_t c = 0; c < s.extent(1); ++c) d(k, c) = s(b, c);
+    } else {
+      for (std::size_t c = 0; c < s.extent(1); ++c)
+        for (std::size_t e = 0; e < s.extent(2); ++e) d(k, c, e) = s(b, c, e);
+    }
+  }
+  Kokkos::deep_copy(dst, d);
+}
 }  // namespace clog_detail
+
+// What a replica is measured against, per replica (a batch may mix sweep points): E_t = ½ M v_t²,
+// v_t, the time limit T and the replica's time step Δt (its clock: t = steps·Δt).
+struct ReplicaLimits {
+  double terminal_energy = 1, terminal_speed = 1, time_limit = 1, dt = 1;
+};
 
 template <class ExecSpace = Kokkos::DefaultExecutionSpace>
 class ClogDetector {
  public:
   using scalar_view = Kokkos::View<double*, ExecSpace>;
 
-  // `terminal_energy` E_t = ½ M v_t² at `terminal_speed` v_t; `threshold` on E_k/E_t; `time_limit`
-  // T; `gravity` ĝ (unit); `test` and `early` the early clog test (ignored under ClogTest::full).
-  ClogDetector(int replicas, double terminal_energy, double threshold, double time_limit, const Vec<2, double>& gravity,
-               ClogTest test = ClogTest::full, const EarlyClogParameters& early = {}, double terminal_speed = 1.0)
+  // `threshold` on E_k/E_t; `gravity` ĝ (unit); `test` and `early` the early clog test (ignored
+  // under ClogTest::full); observe() is called every `steps_per_observation` steps of the replicas.
+  ClogDetector(int replicas, double threshold, const Vec<2, double>& gravity, ClogTest test = ClogTest::full,
+               const EarlyClogParameters& early = {}, int steps_per_observation = 1)
       : status_("mesoflow::clog_detection::status", replicas),
         origin_("mesoflow::clog_detection::origin", replicas),
         end_("mesoflow::clog_detection::end", replicas),
@@ -151,41 +179,95 @@ class ClogDetector {
         early_record_("mesoflow::clog_detection::early_record", replicas),
         ring_("mesoflow::clog_detection::ring", test == ClogTest::full ? 0 : replicas,
               test == ClogTest::full ? 1 : early.samples()),
-        terminal_energy_(terminal_energy),
+        limits_("mesoflow::clog_detection::limits", replicas),
+        clock_("mesoflow::clog_detection::clock", replicas),
+        next_sample_("mesoflow::clog_detection::next_sample", replicas),
         threshold_(threshold),
-        time_limit_(time_limit),
         gravity_(gravity),
         test_(test),
         early_(early),
-        terminal_speed_(terminal_speed) {
+        steps_per_observation_(steps_per_observation) {
     if (replicas < 1) throw std::invalid_argument("clog detection: no replicas");
-    if (!(terminal_energy > 0)) throw std::invalid_argument("clog detection: E_t must be > 0");
     if (!(threshold > 0 && threshold < 1)) throw std::invalid_argument("clog detection: threshold must be in (0, 1)");
-    if (!(time_limit > 0)) throw std::invalid_argument("clog detection: time limit must be > 0");
-    if (!(terminal_speed > 0)) throw std::invalid_argument("clog detection: v_t must be > 0");
+    if (steps_per_observation < 1) throw std::invalid_argument("clog detection: steps per observation must be >= 1");
     early.validate();
+    Kokkos::deep_copy(status_, replica_status::censored);  // idle until started
   }
 
-  // Records the starting centres of mass: state(b, com, ke) fills com[2] and E_k of replica b.
+  // Starts every replica from its current state, all with the same limits.
   template <class ReplicaState>
-  void start(const ReplicaState& state) {
+  void start(const ReplicaLimits& limits, const ReplicaState& state) {
+    std::vector<int> all(static_cast<std::size_t>(replicas()));
+    std::iota(all.begin(), all.end(), 0);
+    restart(all, std::vector<ReplicaLimits>(all.size(), limits), state);
+  }
+
+  // (Re)starts replicas `which[k]` with limits[k] from their current state (state(b, com, ke) fills
+  // com[2] and E_k of replica b): clock at 0, origin at the current centre of mass, records cleared.
+  // Host setup, between observations (a batch refilling a slot with a new replica).
+  template <class ReplicaState>
+  void restart(const std::vector<int>& which, const std::vector<ReplicaLimits>& limits, const ReplicaState& state) {
+    if (which.size() != limits.size()) throw std::invalid_argument("clog detection: limits for each restarted replica");
+    if (which.empty()) return;
+    Kokkos::View<int*, ExecSpace> slots("mesoflow::clog_detection::restart_slots", which.size());
+    Kokkos::View<double* [5], ExecSpace> values("mesoflow::clog_detection::restart_limits", which.size());
+    const auto slots_h = Kokkos::create_mirror_view(slots);
+    const auto values_h = Kokkos::create_mirror_view(values);
+    for (std::size_t k = 0; k < which.size(); ++k) {
+      const ReplicaLimits& l = limits[k];
+      if (which[k] < 0 || which[k] >= replicas())
+        throw std::invalid_argument("clog detection: replica " + std::to_string(which[k]) + " outside [0, " +
+                                    std::to_string(replicas()) + ")");
+      if (!(l.terminal_energy > 0)) throw std::invalid_argument("clog detection: E_t must be > 0");
+      if (!(l.terminal_speed > 0)) throw std::invalid_argument("clog detection: v_t must be > 0");
+      if (!(l.time_limit > 0)) throw std::invalid_argument("clog detection: time limit must be > 0");
+      if (!(l.dt > 0)) throw std::invalid_argument("clog detection: the replica's time step must be > 0");
+      slots_h(k) = which[k];
+      values_h(k, 0) = l.terminal_energy;
+      values_h(k, 1) = l.terminal_speed;
+      values_h(k, 2) = l.time_limit;
+      values_h(k, 3) = l.dt;
+      // The last step: T/Δt rounded up to whole observations.
+      const double per = steps_per_observation_;
+      values_h(k, 4) = std::ceil((std::ceil(l.time_limit / l.dt - 1e-9)) / per) * per;
+    }
+    Kokkos::deep_copy(slots, slots_h);
+    Kokkos::deep_copy(values, values_h);
+    const auto status = status_;
     const auto origin = origin_;
+    const auto end = end_;
+    const auto fit = fit_;
+    const auto decision = decision_;
+    const auto early_record = early_record_;
+    const auto lim = limits_;
+    const auto clock = clock_;
+    const auto next = next_sample_;
+    const double first_sample = early_.sample_interval;
     mesoflow::launch::parallel_for(
-        "mesoflow::clog_detection::start", Kokkos::RangePolicy<ExecSpace>(0, replicas()), KOKKOS_LAMBDA(int b) {
+        "mesoflow::clog_detection::restart", Kokkos::RangePolicy<ExecSpace>(0, int(which.size())),
+        KOKKOS_LAMBDA(int k) {
+          const int b = slots(k);
           double com[2], ke;
           state(b, com, ke);
           origin(b, 0) = com[0];
           origin(b, 1) = com[1];
+          for (int c = 0; c < 4; ++c) end(b, c) = 0;
+          for (int c = 0; c < 5; ++c) fit(b, c) = 0;
+          for (int c = 0; c < 6; ++c) early_record(b, c) = 0;
+          for (int c = 0; c < 5; ++c) lim(b, c) = values(k, c);
+          decision(b) = early_decision::none;
+          clock(b, 0) = 0;  // steps run
+          clock(b, 1) = 0;  // ring samples taken
+          next(b) = first_sample;
+          status(b) = replica_status::running;
         });
-    next_sample_ = early_.sample_interval;
-    samples_ = 0;
   }
 
-  // Checks every running replica at time t: clogged if E_k/E_t < threshold, else censored if
-  // `at_limit` (the run has reached T: the clog test comes first). Under ClogTest early/both, a
-  // sample enters the ring buffers once every sample_interval and the early test runs on it.
+  // Every replica still running has advanced steps_per_observation steps of its own Δt: updates its
+  // clock, tracking and clog tests at its time t = steps·Δt, and ends it when it clogs or reaches
+  // its time limit.
   template <class ReplicaState>
-  void observe(double t, bool at_limit, const ReplicaState& state) {
+  void observe(const ReplicaState& state) {
     const auto status = status_;
     const auto origin = origin_;
     const auto end = end_;
@@ -193,21 +275,31 @@ class ClogDetector {
     const auto decision = decision_;
     const auto early_record = early_record_;
     const auto ring = ring_;
-    const double e_clog = threshold_ * terminal_energy_, half = 0.5 * time_limit_;
-    const double e_t = terminal_energy_, ln_threshold = std::log(threshold_), v_t = terminal_speed_;
+    const auto lim = limits_;
+    const auto clock = clock_;
+    const auto next = next_sample_;
+    const double threshold = threshold_, ln_threshold = std::log(threshold_);
     const double gx = gravity_[0], gy = gravity_[1];
     const bool testing = test_ != ClogTest::full;
     const bool early_ends = test_ == ClogTest::early;
-    const bool sample = testing && t + 1e-9 >= next_sample_;
-    if (sample) {
-      next_sample_ += early_.sample_interval;
-      ++samples_;
-    }
-    const int count = samples_, w = testing ? int(ring_.extent(1)) : 1;
+    const int w = testing ? int(ring_.extent(1)) : 1;
     const double tolerance = early_.tolerance, max_scatter = early_.max_scatter, min_rate = early_.min_rate;
+    const double interval = early_.sample_interval;
+    const long long per = steps_per_observation_;
     mesoflow::launch::parallel_for(
         "mesoflow::clog_detection::observe", Kokkos::RangePolicy<ExecSpace>(0, replicas()), KOKKOS_LAMBDA(int b) {
           if (status(b) != replica_status::running) return;
+          const long long steps = clock(b, 0) + per;
+          clock(b, 0) = steps;
+          const double t = double(steps) * lim(b, 3);
+          const bool at_limit = double(steps) >= lim(b, 4);
+          const double e_t = lim(b, 0), v_t = lim(b, 1), half = 0.5 * lim(b, 2);
+          const bool sample = testing && t + 1e-9 >= next(b);
+          int count = int(clock(b, 1));
+          if (sample) {
+            next(b) += interval;
+            clock(b, 1) = ++count;
+          }
           double com[2], ke;
           state(b, com, ke);
           const double r = (com[0] - origin(b, 0)) * gx + (com[1] - origin(b, 1)) * gy;
@@ -219,7 +311,7 @@ class ClogDetector {
             fit(b, 3) += s * s;
             fit(b, 4) += s * r;
           }
-          const bool clogged = ke < e_clog;
+          const bool clogged = ke < threshold * e_t;
           bool early_now = false;
           if (sample && decision(b) == early_decision::none && !clogged) {
             const double ratio = ke / e_t;
@@ -230,7 +322,7 @@ class ClogDetector {
             ring(b, slot, 2) = com[0];
             ring(b, slot, 3) = com[1];
             if (count >= w) {
-              // (1) the centre of mass stayed within the tolerance of where it is now
+              // (1) the centre of mass stayed within the tolerance over the window.
               double moved = 0;
               for (int i = 0; i < w; ++i) {
                 const double dx = ring(b, i, 2) - com[0], dy = ring(b, i, 3) - com[1];
@@ -238,14 +330,13 @@ class ClogDetector {
                 moved = d2 > moved ? d2 : moved;
               }
               if (moved < tolerance * tolerance) {
-                // (2) exponential decay of E_k over the window and over each half
+                // (2) an exponential decay over the window and both halves; (3) the travel left.
                 double scatter = 0;
                 const double k_all = -clog_detail::window_slope(ring, b, count, 0, w, t, &scatter);
                 const double k_old = -clog_detail::window_slope(ring, b, count, 0, w / 2, t, nullptr);
                 const double k_new = -clog_detail::window_slope(ring, b, count, w - w / 2, w / 2, t, nullptr);
                 double k = k_all < k_old ? k_all : k_old;
                 k = k < k_new ? k : k_new;
-                // (3) the travel left, ≤ 2 v_t √(E_k/E_t)/k, within the tolerance
                 if (k > min_rate && scatter < max_scatter && 2.0 * v_t * kmath::sqrt(ratio) / k < tolerance) {
                   early_now = true;
                   decision(b) = early_decision::test;
@@ -324,8 +415,31 @@ class ClogDetector {
     return out;
   }
 
+  // A detector of the replicas keep[0], keep[1], … of this one, in that order, every record, clock
+  // and ring buffer carried over (a batch compacting its running replicas).
+  ClogDetector compacted(const std::vector<int>& keep) const {
+    if (keep.empty()) throw std::invalid_argument("clog detection: nothing to keep");
+    for (const int b : keep)
+      if (b < 0 || b >= replicas())
+        throw std::invalid_argument("clog detection: replica " + std::to_string(b) + " outside [0, " +
+                                    std::to_string(replicas()) + ")");
+    ClogDetector out(int(keep.size()), threshold_, gravity_, test_, early_, steps_per_observation_);
+    clog_detail::gather_rows(status_, out.status_, keep);
+    clog_detail::gather_rows(origin_, out.origin_, keep);
+    clog_detail::gather_rows(end_, out.end_, keep);
+    clog_detail::gather_rows(fit_, out.fit_, keep);
+    clog_detail::gather_rows(decision_, out.decision_, keep);
+    clog_detail::gather_rows(early_record_, out.early_record_, keep);
+    if (ring_.extent(0) > 0) clog_detail::gather_rows(ring_, out.ring_, keep);
+    clog_detail::gather_rows(limits_, out.limits_, keep);
+    clog_detail::gather_rows(clock_, out.clock_, keep);
+    clog_detail::gather_rows(next_sample_, out.next_sample_, keep);
+    return out;
+  }
+
   int replicas() const { return int(status_.extent(0)); }
   ClogTest test() const { return test_; }
+  int steps_per_observation() const { return steps_per_observation_; }
 
  private:
   Kokkos::View<int*, ExecSpace> status_;
@@ -335,13 +449,14 @@ class ClogDetector {
   Kokkos::View<int*, ExecSpace> decision_;    // early_decision of each replica
   Kokkos::View<double* [6], ExecSpace> early_record_;  // r, t, k, crossing time, x_com, y_com at the early decision
   Kokkos::View<double** [4], ExecSpace> ring_;  // (replica, slot): t, ln(E_k/E_t), x_com, y_com
-  double terminal_energy_, threshold_, time_limit_;
+  Kokkos::View<double* [5], ExecSpace> limits_;  // E_t, v_t, T, Δt, the last step
+  Kokkos::View<long long* [2], ExecSpace> clock_;  // steps run, ring samples taken
+  Kokkos::View<double*, ExecSpace> next_sample_;   // time of the next ring sample
+  double threshold_;
   Vec<2, double> gravity_;
   ClogTest test_;
   EarlyClogParameters early_;
-  double terminal_speed_;
-  double next_sample_ = 0;
-  int samples_ = 0;
+  int steps_per_observation_;
 };
 
 }  // namespace mesoflow::droplets

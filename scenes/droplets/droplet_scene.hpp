@@ -23,6 +23,7 @@
 #include "kernels/dp/line_tension.hpp"
 #include "kernels/dp/gravity.hpp"
 #include "kernels/dp/near_wall_drag.hpp"
+#include "kernels/dp/per_body.hpp"
 #include "kernels/dp/polygons.hpp"
 #include "kernels/dp/segment_spring_force.hpp"
 #include "kernels/dp/shape_forces.hpp"
@@ -33,6 +34,8 @@
 #include "kernels/dp/stability.hpp"
 #include "kernels/dp/vertex_wall_repulsion.hpp"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <iostream>
 #include <optional>
@@ -153,16 +156,29 @@ class DropletScene {
   // As above, droplet b in obstacle array droplet_array[b] of surfaces.obstacles().
   DropletScene(const DropletParameters& par, const Surfaces<Real, ExecSpace>& surfaces,
                const std::vector<Vec<2, double>>& centres, const std::vector<int>& droplet_array)
-      : par_((par.validate(), par)),
-        dt_(resolve_time_step(par, surfaces.num_walls() > 0 || surfaces.obstacles().size() > 0)),
-        polygons_(dp::Polygons<Real, ExecSpace>::uniform(int(centres.size()), par.vertices, Real(droplet_area),
-                                                         Real(dp::regular_polygon_edge(droplet_area, par.vertices)))),
+      : DropletScene(std::vector<DropletParameters>(centres.size(), par), surfaces, centres, droplet_array, false) {}
+
+  // Droplets with parameters of their own (a batch mixing the points of a sweep, issue 25 item 3):
+  // droplet b has per_body[b]'s Γ, K_l, b0/b∞, V_t and time step (each at its own stability limit,
+  // velocity_verlet.hpp's per-particle steps), everything else shared (common_fields_match). Every
+  // droplet evolves bitwise as it would alone in a scene of its own parameters and array.
+  DropletScene(const std::vector<DropletParameters>& per_body, const Surfaces<Real, ExecSpace>& surfaces,
+               const std::vector<Vec<2, double>>& centres, const std::vector<int>& droplet_array)
+      : DropletScene(per_body, surfaces, centres, droplet_array, true) {}
+
+ private:
+  DropletScene(const std::vector<DropletParameters>& per_body, const Surfaces<Real, ExecSpace>& surfaces,
+               const std::vector<Vec<2, double>>& centres, const std::vector<int>& droplet_array, bool mixed)
+      : par_((check_per_body(per_body, centres.size()), per_body.front())),
+        dt_(largest_time_step(per_body, surfaces.num_walls() > 0 || surfaces.obstacles().size() > 0)),
+        polygons_(dp::Polygons<Real, ExecSpace>::uniform(int(centres.size()), par_.vertices, Real(droplet_area),
+                                                         Real(dp::regular_polygon_edge(droplet_area, par_.vertices)))),
         state_(int(centres.size())),
         surfaces_(surfaces),
         vv_(Real(dt_)),
-        p_(std::size_t(par.vertices) * centres.size(), "droplets"),
-        l0_(dp::regular_polygon_edge(droplet_area, par.vertices)),
-        b_inf_(droplet_mass / par.terminal_speed) {
+        p_(std::size_t(par_.vertices) * centres.size(), "droplets"),
+        l0_(dp::regular_polygon_edge(droplet_area, par_.vertices)),
+        b_inf_(droplet_mass / par_.terminal_speed) {
     if (centres.empty()) throw std::invalid_argument("droplet scene: no droplets");
     if (droplet_array.size() != centres.size())
       throw std::invalid_argument("droplet scene: " + std::to_string(droplet_array.size()) + " obstacle arrays for " +
@@ -175,7 +191,7 @@ class DropletScene {
     auto x = Kokkos::create_mirror_view(p_.x);
     for (std::size_t b = 0; b < centres.size(); ++b) dp::place_regular_polygon(polygons_, int(b), x, centres[b]);
     Kokkos::deep_copy(p_.x, x);
-    Kokkos::deep_copy(p_.mass, Real(droplet_mass / par.vertices));
+    Kokkos::deep_copy(p_.mass, Real(droplet_mass / par_.vertices));
     if (surfaces.obstacles().size() > 0) {
       Kokkos::View<int*, ExecSpace> body_array("mesoflow::droplet_scene::droplet_array", centres.size());
       const auto body_array_host = Kokkos::create_mirror_view(body_array);
@@ -183,10 +199,15 @@ class DropletScene {
       Kokkos::deep_copy(body_array, body_array_host);
       candidates_.emplace(surfaces.obstacles(), polygons_.offset, body_array, Real(candidate_skin));
     }
-    const double angle = par.gravity_angle * dp::pi / 180.0;
+    const double angle = par_.gravity_angle * dp::pi / 180.0;
     gravity_ = Vec<2, Real>{{Real(std::cos(angle)), Real(std::sin(angle))}};
+    mixed_ = mixed;
+    body_par_ = per_body;
+    if (mixed_) upload_body_coefficients();
     declare_terms();
   }
+
+ public:
   // The term list's launches hold `this`: a scene stays where it was built.
   DropletScene(const DropletScene&) = delete;
   DropletScene& operator=(const DropletScene&) = delete;
@@ -197,8 +218,13 @@ class DropletScene {
   FireResult relax(int max_iterations = 20000, bool with_gravity = false, double force_tolerance = 1e-6) {
     FireParameters fire;
     // FIRE is damped MD: its largest step obeys the same stability limit as the dynamics.
-    fire.dt_start = dt_;
-    fire.dt_max = std::max(dt_, 0.5 * droplet_stability(par_, has_surfaces()).max_dt());
+    double smallest_dt = dt_, smallest_limit = droplet_stability(par_, has_surfaces()).max_dt();
+    for (std::size_t b = 0; mixed_ && b < body_par_.size(); ++b) {
+      smallest_dt = std::min(smallest_dt, body_dt_[b]);
+      smallest_limit = std::min(smallest_limit, droplet_stability(body_par_[b], has_surfaces()).max_dt());
+    }
+    fire.dt_start = smallest_dt;
+    fire.dt_max = std::max(smallest_dt, 0.5 * smallest_limit);
     fire.max_iterations = max_iterations;
     fire.force_tolerance = force_tolerance;
     const FireResult result = fire_minimize(p_, [&] { return conservative_forces(with_gravity); }, fire);
@@ -225,7 +251,8 @@ class DropletScene {
   // unequal edges have stiffened the area mode; kernels/dp/stability.hpp) and the largest
   // Σ_i |∇_i a|² that set it.
   std::pair<dp::StabilityLimit, double> shape_stability() const {
-    const double gradient = dp::measure_area_gradient_squared(polygons_, p_);
+    const double gradient = mixed_ ? dp::measure_area_gradient_squared(polygons_, p_, dt_weight_)
+                                   : dp::measure_area_gradient_squared(polygons_, p_);
     return {dp::stability_limit_for_shape(droplet_stiffness(par_, has_surfaces()), gradient), gradient};
   }
 
@@ -357,6 +384,103 @@ class DropletScene {
   long long steps() const { return steps_; }
   double time() const { return double(steps_) * dt_; }
   double dt() const { return dt_; }
+  // Droplet b's time step (the scene's dt() unless the batch is mixed).
+  double dt(int b) const { return mixed_ ? body_dt_.at(std::size_t(b)) : dt_; }
+  bool mixed() const { return mixed_; }
+  const DropletParameters& parameters(int b) const { return body_par_.at(std::size_t(b)); }
+
+  // Mixed batches: puts a new droplet in slot b — parameters `par` (sharing the common fields),
+  // obstacle array `array`, vertices `vertices` at rest. Host setup between steps; then
+  // refresh_forces() with every slot refilled.
+  void replace_droplet(int b, const DropletParameters& par, int array, const std::vector<Vec<2, double>>& vertices) {
+    if (!mixed_) throw std::logic_error("droplet scene: replace_droplet needs a scene of per-droplet parameters");
+    if (b < 0 || b >= polygons_.num_bodies())
+      throw std::invalid_argument("droplet scene: droplet " + std::to_string(b) + " outside [0, " +
+                                  std::to_string(polygons_.num_bodies()) + ")");
+    par.validate();
+    check_common_fields(par_, par);
+    body_par_[std::size_t(b)] = par;
+    upload_body_coefficients();
+    place_droplet(b, vertices);
+    if (candidates_) candidates_->reassign(b, array);
+  }
+
+  // The forces of the droplets `bodies` at their current state, as compute_step_forces() gives them,
+  // the other droplets' forces untouched (they keep those of their last step).
+  void refresh_forces(const std::vector<int>& bodies) {
+    if (bodies.empty()) return;
+    if (scratch_forces_.extent(0) != p_.f.extent(0))
+      scratch_forces_ = typename particles_type::vector_view("mesoflow::droplet_scene::scratch_forces", p_.f.extent(0));
+    Kokkos::deep_copy(scratch_forces_, p_.f);
+    compute_step_forces();
+    Kokkos::View<int*, ExecSpace> refreshed("mesoflow::droplet_scene::refreshed", std::size_t(polygons_.num_bodies()));
+    const auto h = Kokkos::create_mirror_view(refreshed);
+    for (const int b : bodies) h(b) = 1;
+    Kokkos::deep_copy(refreshed, h);
+    const auto f = p_.f, saved = scratch_forces_;
+    const auto body = polygons_.body;
+    mesoflow::launch::parallel_for(
+        "mesoflow::droplet_scene::restore_forces", Kokkos::RangePolicy<ExecSpace>(0, polygons_.num_vertices()),
+        KOKKOS_LAMBDA(int i) {
+          if (!refreshed(body(i)))
+            for (int d = 0; d < 2; ++d) f(i, d) = saved(i, d);
+        });
+  }
+
+  // A droplet's whole dynamic state: vertex positions, velocities and the forces of its last step,
+  // and its obstacle candidates' reference disk (moving a droplet between batches, bitwise).
+  struct DropletState {
+    std::vector<double> x, v, f;
+    std::array<double, 3> reference{};
+  };
+  std::vector<DropletState> export_droplets() const {
+    const auto x = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), p_.x);
+    const auto v = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), p_.v);
+    const auto f = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), p_.f);
+    std::vector<std::array<double, 3>> disks;
+    if (candidates_) disks = candidates_->references();
+    std::vector<DropletState> out(std::size_t(polygons_.num_bodies()));
+    for (int b = 0; b < polygons_.num_bodies(); ++b) {
+      DropletState& s = out[std::size_t(b)];
+      for (int i = polygons_.first_vertex(b); i < polygons_.first_vertex(b) + polygons_.num_vertices(b); ++i)
+        for (int d = 0; d < 2; ++d) {
+          s.x.push_back(double(x(i, d)));
+          s.v.push_back(double(v(i, d)));
+          s.f.push_back(double(f(i, d)));
+        }
+      if (candidates_) s.reference = disks[std::size_t(b)];
+    }
+    return out;
+  }
+  // Sets every droplet's state from `states` (one per droplet, from export_droplets of a scene of
+  // the same droplets) and the step count: the scene continues them bitwise. Host setup.
+  void import_droplets(const std::vector<DropletState>& states, long long steps) {
+    if (int(states.size()) != polygons_.num_bodies())
+      throw std::invalid_argument("droplet scene: " + std::to_string(states.size()) + " droplet states for " +
+                                  std::to_string(polygons_.num_bodies()) + " droplets");
+    const auto x = Kokkos::create_mirror_view(p_.x);
+    const auto v = Kokkos::create_mirror_view(p_.v);
+    const auto f = Kokkos::create_mirror_view(p_.f);
+    std::vector<std::array<double, 3>> disks;
+    for (int b = 0; b < polygons_.num_bodies(); ++b) {
+      const DropletState& s = states[std::size_t(b)];
+      if (int(s.x.size()) != 2 * polygons_.num_vertices(b) || s.v.size() != s.x.size() || s.f.size() != s.x.size())
+        throw std::invalid_argument("droplet scene: droplet state of the wrong size for droplet " + std::to_string(b));
+      int k = 0;
+      for (int i = polygons_.first_vertex(b); i < polygons_.first_vertex(b) + polygons_.num_vertices(b); ++i, ++k)
+        for (int d = 0; d < 2; ++d) {
+          x(i, d) = Real(s.x[std::size_t(2 * k + d)]);
+          v(i, d) = Real(s.v[std::size_t(2 * k + d)]);
+          f(i, d) = Real(s.f[std::size_t(2 * k + d)]);
+        }
+      disks.push_back(s.reference);
+    }
+    Kokkos::deep_copy(p_.x, x);
+    Kokkos::deep_copy(p_.v, v);
+    Kokkos::deep_copy(p_.f, f);
+    if (candidates_) candidates_->build_at(disks, p_.x);
+    steps_ = steps;
+  }
   double far_drag() const { return b_inf_; }
   double edge_length() const { return l0_; }
 
@@ -393,10 +517,20 @@ class DropletScene {
     };
     terms_.term({"area elasticity K_a", "eq. 1", false, true,
                  shape_term(dp::AreaElasticity<Real>{Real(par_.area_stiffness)})});
-    terms_.term({"segment springs K_l", "eq. 1", false, par_.perimeter_stiffness != 0,
-                 shape_term(dp::SegmentSprings<Real>{Real(par_.perimeter_stiffness)})});
-    terms_.term({"line tension Γ", "eq. 2", false, par_.line_tension != 0,
-                 shape_term(dp::LineTension<Real>{Real(par_.line_tension)})});
+    if (mixed_) {
+      terms_.term({"segment springs K_l", "eq. 1 (per droplet)", false, any_body([](const DropletParameters& b) {
+                     return b.perimeter_stiffness != 0;
+                   }),
+                   shape_term(springs_per_body())});
+      terms_.term({"line tension Γ", "eq. 2 (per droplet)", false,
+                   any_body([](const DropletParameters& b) { return b.line_tension != 0; }),
+                   shape_term(tension_per_body())});
+    } else {
+      terms_.term({"segment springs K_l", "eq. 1", false, par_.perimeter_stiffness != 0,
+                   shape_term(dp::SegmentSprings<Real>{Real(par_.perimeter_stiffness)})});
+      terms_.term({"line tension Γ", "eq. 2", false, par_.line_tension != 0,
+                   shape_term(dp::LineTension<Real>{Real(par_.line_tension)})});
+    }
     terms_.term({"bending K_b", "hopper eq. 8", false, par_.bending_stiffness > 0,
                  shape_term(dp::Bending<Real>{Real(par_.bending_stiffness)})});
     terms_.term({"gravity", "", false, true, shape_term(dp::Gravity<Real>{gravity_})});
@@ -404,10 +538,12 @@ class DropletScene {
                    p_.zero_forces();
                    with_surfaces([&](const auto& q) { accumulate_surface_forces(q, p_, p_.v, repulsion()); });
                  }});
-    terms_.term({"drag b∞, b0", "eqs. 5–6", true, par_.drag, [this] {
+    terms_.term({"drag b∞, b0", mixed_ ? "eqs. 5–6 (per droplet)" : "eqs. 5–6", true, par_.drag, [this] {
                    p_.zero_forces();
                    const dp::VertexWallRepulsion<Real> none(Real(0), Real(par_.vertex_diameter * l0_));
-                   with_surfaces([&](const auto& q) { accumulate_surface_forces(q, p_, p_.v, none, drag()); });
+                   with_drag([&](const auto& drag) {
+                     with_surfaces([&](const auto& q) { accumulate_surface_forces(q, p_, p_.v, none, drag); });
+                   });
                  }});
     terms_.launch("shape loop (one kernel)",
                   {"area elasticity K_a", "segment springs K_l", "line tension Γ", "bending K_b", "gravity"},
@@ -415,7 +551,9 @@ class DropletScene {
     terms_.launch("surface loop (one kernel)", {"wall/obstacle repulsion E_w", "drag b∞, b0"},
                   [this](const typename particles_type::vector_view& u) {
                     if (par_.drag)
-                      with_surfaces([&](const auto& q) { accumulate_surface_forces(q, p_, u, repulsion(), drag()); });
+                      with_drag([&](const auto& drag) {
+                        with_surfaces([&](const auto& q) { accumulate_surface_forces(q, p_, u, repulsion(), drag); });
+                      });
                     else
                       with_surfaces([&](const auto& q) { accumulate_surface_forces(q, p_, p_.v, repulsion()); });
                   });
@@ -428,6 +566,13 @@ class DropletScene {
     dp::update_body_state(polygons_, p_, state_);
     const Vec<2, Real> g = with_gravity ? gravity_ : Vec<2, Real>::zero();
     const dp::AreaElasticity<Real> area{Real(par_.area_stiffness)};
+    if (mixed_) {
+      if (par_.bending_stiffness > 0)
+        return dp::accumulate_shape_forces(polygons_, state_, p_, area, springs_per_body(), tension_per_body(),
+                                           dp::Bending<Real>{Real(par_.bending_stiffness)}, dp::Gravity<Real>{g});
+      return dp::accumulate_shape_forces(polygons_, state_, p_, area, springs_per_body(), tension_per_body(),
+                                         dp::Gravity<Real>{g});
+    }
     const dp::SegmentSprings<Real> springs{Real(par_.perimeter_stiffness)};
     const dp::LineTension<Real> tension{Real(par_.line_tension)};
     if (par_.bending_stiffness > 0)
@@ -439,13 +584,98 @@ class DropletScene {
   dp::VertexWallRepulsion<Real> repulsion() const {
     return dp::VertexWallRepulsion<Real>(Real(par_.wall_energy), Real(par_.vertex_diameter * l0_));
   }
-  dp::NearWallDrag<Real> drag() const {
-    return dp::NearWallDrag<Real>(Real(b_inf_), Real(par_.near_wall_drag * b_inf_), Real(1), par_.vertices,
-                                  Real(par_.drag_exponent), Real(par_.drag_floor));
+  dp::NearWallDrag<Real> drag() const { return drag_of(par_); }
+  static dp::NearWallDrag<Real> drag_of(const DropletParameters& par) {
+    const double b_inf = droplet_mass / par.terminal_speed;
+    return dp::NearWallDrag<Real>(Real(b_inf), Real(par.near_wall_drag * b_inf), Real(1), par.vertices,
+                                  Real(par.drag_exponent), Real(par.drag_floor));
+  }
+  dp::PerBody<dp::SegmentSprings<Real>, ExecSpace> springs_per_body() const { return {spring_terms_}; }
+  dp::PerBody<dp::LineTension<Real>, ExecSpace> tension_per_body() const { return {tension_terms_}; }
+  // Calls use(drag): the scene's drag term, one for all droplets or one per droplet.
+  template <class Use>
+  void with_drag(Use&& use) {
+    if (mixed_)
+      use(dp::PerBodySurfaceTerm<dp::NearWallDrag<Real>, Real, ExecSpace>{polygons_.body, drag_terms_, Real(0)});
+    else
+      use(drag());
+  }
+  template <class Pred>
+  bool any_body(Pred&& pred) const {
+    for (const auto& b : body_par_)
+      if (pred(b)) return true;
+    return false;
   }
 
-  DropletParameters par_;
-  double dt_;
+  // The parameters a mixed batch's droplets must share (everything but Γ, K_l, b0/b∞, V_t and Δt);
+  // throws std::invalid_argument naming the first that differs.
+  static void check_common_fields(const DropletParameters& a, const DropletParameters& b) {
+    const auto same = [](bool equal, const char* name) {
+      if (!equal)
+        throw std::invalid_argument(std::string("droplet scene: droplets of one batch must share ") + name);
+    };
+    same(a.vertices == b.vertices, "the vertex count N_v");
+    same(a.area_stiffness == b.area_stiffness, "the area stiffness K_a");
+    same(a.bending_stiffness == b.bending_stiffness, "the bending stiffness K_b");
+    same(a.wall_energy == b.wall_energy, "the wall energy E_w");
+    same(a.vertex_diameter == b.vertex_diameter, "the vertex diameter");
+    same(a.drag_exponent == b.drag_exponent, "the drag exponent");
+    same(a.drag_floor == b.drag_floor, "the near-wall drag floor");
+    same(a.drag == b.drag, "the drag switch");
+    same(a.gravity_angle == b.gravity_angle, "the gravity angle");
+  }
+  static int check_per_body(const std::vector<DropletParameters>& per_body, std::size_t droplets) {
+    if (droplets == 0 || per_body.empty()) throw std::invalid_argument("droplet scene: no droplets");
+    if (per_body.size() != droplets)
+      throw std::invalid_argument("droplet scene: " + std::to_string(per_body.size()) + " parameter sets for " +
+                                  std::to_string(droplets) + " droplets");
+    for (const auto& b : per_body) {
+      b.validate();
+      check_common_fields(per_body.front(), b);
+    }
+    return 0;
+  }
+  static double largest_time_step(const std::vector<DropletParameters>& per_body, bool with_surfaces) {
+    double dt = 0;
+    for (const auto& b : per_body) dt = std::max(dt, resolve_time_step(b, with_surfaces));
+    return dt;
+  }
+
+  // The per-droplet coefficient Views, their time steps and the (Δt_b/Δt)² weights of the shape check,
+  // from body_par_ (setup and refills only).
+  void upload_body_coefficients() {
+    const int nb = polygons_.num_bodies();
+    std::vector<dp::SegmentSprings<Real>> springs;
+    std::vector<dp::LineTension<Real>> tension;
+    std::vector<dp::NearWallDrag<Real>> drag;
+    body_dt_.assign(std::size_t(nb), 0.0);
+    for (int b = 0; b < nb; ++b) {
+      const DropletParameters& q = body_par_[std::size_t(b)];
+      springs.push_back({Real(q.perimeter_stiffness)});
+      tension.push_back({Real(q.line_tension)});
+      drag.push_back(drag_of(q));
+      body_dt_[std::size_t(b)] = resolve_time_step(q, has_surfaces());
+    }
+    dt_ = *std::max_element(body_dt_.begin(), body_dt_.end());  // the reference of the shape check's weights
+    spring_terms_ = dp::per_body_view<dp::SegmentSprings<Real>, ExecSpace>("mesoflow::droplet_scene::springs", springs);
+    tension_terms_ = dp::per_body_view<dp::LineTension<Real>, ExecSpace>("mesoflow::droplet_scene::tension", tension);
+    drag_terms_ = dp::per_body_view<dp::NearWallDrag<Real>, ExecSpace>("mesoflow::droplet_scene::drag", drag);
+    particle_dt_ = Kokkos::View<Real*, ExecSpace>("mesoflow::droplet_scene::particle_dt", p_.size());
+    dt_weight_ = Kokkos::View<double*, ExecSpace>("mesoflow::droplet_scene::dt_weight", std::size_t(nb));
+    const auto pdt = Kokkos::create_mirror_view(particle_dt_);
+    const auto weight = Kokkos::create_mirror_view(dt_weight_);
+    for (int b = 0; b < nb; ++b) {
+      weight(b) = (body_dt_[std::size_t(b)] / dt_) * (body_dt_[std::size_t(b)] / dt_);
+      for (int i = polygons_.first_vertex(b); i < polygons_.first_vertex(b) + polygons_.num_vertices(b); ++i)
+        pdt(i) = Real(body_dt_[std::size_t(b)]);
+    }
+    Kokkos::deep_copy(particle_dt_, pdt);
+    Kokkos::deep_copy(dt_weight_, weight);
+    vv_.set_particle_time_steps(particle_dt_);
+  }
+
+  DropletParameters par_;  // droplet 0's (every shared field is everyone's)
+  double dt_;               // the step (mixed: the largest droplet's; each droplet runs at body_dt_)
   dp::Polygons<Real, ExecSpace> polygons_;
   dp::BodyState<Real, ExecSpace> state_;
   Surfaces<Real, ExecSpace> surfaces_;
@@ -458,6 +688,16 @@ class DropletScene {
   scene::TermList<const typename Particles<2, Real, ExecSpace>::vector_view&> terms_;
   long long steps_ = 0;
   bool shape_warned_ = false;
+  // Mixed batches (per-droplet parameters):
+  bool mixed_ = false;
+  std::vector<DropletParameters> body_par_;
+  std::vector<double> body_dt_;
+  Kokkos::View<dp::SegmentSprings<Real>*, ExecSpace> spring_terms_;
+  Kokkos::View<dp::LineTension<Real>*, ExecSpace> tension_terms_;
+  Kokkos::View<dp::NearWallDrag<Real>*, ExecSpace> drag_terms_;
+  Kokkos::View<Real*, ExecSpace> particle_dt_;
+  Kokkos::View<double*, ExecSpace> dt_weight_;
+  typename particles_type::vector_view scratch_forces_;
   static constexpr double candidate_skin = 0.5;  // σ
   static constexpr long long shape_check_interval = 100;
   static constexpr double area_mode_tolerance = 1.8;

@@ -10,11 +10,11 @@
 // step adaptation would otherwise couple the replicas; afterwards every kernel acts per droplet, so
 // a replica gives bitwise the same record in any batch as alone (tests/dp/test_obstacle_ensemble.cpp).
 //
-// Batches are not refilled: a replica that finishes keeps being stepped (its record is final) until
-// the whole batch has finished. Refilling would rebuild the multi-array ObstacleArray and the
-// candidate lists on the host at every replacement; the driver instead keeps batches of replicas of
-// one sweep point, which finish within a factor of a few of each other in the clogging regime, and
-// a batch ends as soon as its last replica does.
+// run_obstacle_batch runs one batch of one sweep point to its slowest replica (a replica that
+// finishes keeps being stepped, its record final). run_sweep_batched runs a whole DP sweep in one
+// batch: every point's arrays in one multi-array ObstacleArray, each droplet with its point's
+// coefficients and time step (DropletScene's per-droplet parameters), a finished replica's slot
+// refilled with the next pending one and the batch compacted once none is left (issue 25 item 3).
 #pragma once
 
 #include "scenes/droplets/clog_detection.hpp"
@@ -26,6 +26,7 @@
 #include <cmath>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <numeric>
 #include <stdexcept>
 #include <string>
@@ -44,12 +45,17 @@ struct ObstacleEnsembleParameters {
   double obstacle_diameter = 0.3; // σ_ob/σ
   double obstacle_fraction = 0;   // area fraction φ of the obstacles; 0: maximal Poisson-disk arrays (densest)
   double gap = 0.2;               // w_ob/σ, the minimum surface-to-surface gap of the array
+  // The obstacle grid's cell width is σ_ob + cell_gap (0: the gap). A batch mixing gaps uses the
+  // smallest for all; a replica's record depends on it only through the order in which its nearby
+  // obstacles are summed (last bits), so a replica compares bitwise with a run of the same cell_gap.
+  double cell_gap = 0;
   double time_limit = 200.0;      // T/t0
   double clog_threshold = 1e-17;  // on E_k/E_t (App. C)
   ClogTest clog_test = ClogTest::full;  // what ends a replica (clog_detection.hpp)
   EarlyClogParameters early;      // the early clog test
   int relax_iterations = 20000;   // FIRE iterations of the initial relaxation
 
+  double cell_width() const { return obstacle_diameter + (cell_gap > 0 ? cell_gap : gap); }
   double terminal_speed() const {
     return model == DropletModel::deformable_polygon ? droplet.terminal_speed : soft.terminal_speed;
   }
@@ -104,6 +110,39 @@ struct SoftReplicaState {
   }
 };
 
+// Where a replica's droplet starts: the centre of the box (§2.4).
+inline Vec<2, double> start_centre(const ObstacleEnsembleParameters& par) {
+  return Vec<2, double>{{0.5 * par.box_length, 0.5 * par.box_length}};
+}
+
+// The obstacle array of the replica with obstacle seed `seed`: φ-limited random sequential
+// (par.obstacle_fraction > 0) or maximal Poisson-disk. DP: the start disk is cleared. Eq. 3 repels
+// vertices only, so FIRE pushes the vertices off the obstacles under the initial droplet but leaves
+// those it encloses inside the polygon: at φ = 0.195 every replica started with 1–3 obstacles inside
+// the droplet (7 of 16 at φ = 0.05) and hung on them from inside (docs/droplets.md). Obstacles whose
+// centre lies within (σ + σ_ob)/2 + w_ob/4 of the start are removed. (The SP droplet is one disk:
+// FIRE resolves its overlaps.)
+inline std::vector<Vec<2, double>> replica_obstacles(const ObstacleEnsembleParameters& par, std::uint64_t seed) {
+  std::vector<Vec<2, double>> a =
+      par.obstacle_fraction > 0
+          ? random_sequential_obstacles(par.box_length, par.box_length, par.obstacle_diameter, par.gap,
+                                        obstacle_count(par), seed)
+          : poisson_disk_obstacles(par.box_length, par.box_length, par.obstacle_diameter, par.gap, seed);
+  if (par.model == DropletModel::deformable_polygon) {
+    const Vec<2, double> centre = start_centre(par);
+    const double clear = 0.5 * (1.0 + par.obstacle_diameter) + 0.25 * par.gap;
+    a.erase(std::remove_if(a.begin(), a.end(),
+                           [&](const Vec<2, double>& c) {
+                             double dx = c[0] - centre[0], dy = c[1] - centre[1];
+                             dx -= par.box_length * std::round(dx / par.box_length);
+                             dy -= par.box_length * std::round(dy / par.box_length);
+                             return dx * dx + dy * dy < clear * clear;
+                           }),
+            a.end());
+  }
+  return a;
+}
+
 template <class Real>
 Box<2, Real> periodic_square(double length) {
   const Real lo[2] = {0, 0}, len[2] = {Real(length), Real(length)};
@@ -119,9 +158,9 @@ void run_until_finished(const ObstacleEnsembleParameters& par, Scene& scene, int
   const double angle = par.gravity_angle() * dp::pi / 180.0;
   const double terminal_energy = 0.5 * droplet_mass * par.terminal_speed() * par.terminal_speed();
   ClogDetector<typename Scene::particles_type::execution_space> detector(
-      replicas, terminal_energy, par.clog_threshold, par.time_limit, Vec<2, double>{{std::cos(angle), std::sin(angle)}},
-      par.clog_test, par.early, par.terminal_speed());
-  detector.start(state_of());
+      replicas, par.clog_threshold, Vec<2, double>{{std::cos(angle), std::sin(angle)}}, par.clog_test, par.early,
+      sample_steps);
+  detector.start(ReplicaLimits{terminal_energy, par.terminal_speed(), par.time_limit, scene.dt()}, state_of());
   const long long limit_steps =
       (static_cast<long long>(std::ceil(par.time_limit / scene.dt() - 1e-9)) + sample_steps - 1) / sample_steps *
       sample_steps;
@@ -135,7 +174,7 @@ void run_until_finished(const ObstacleEnsembleParameters& par, Scene& scene, int
       if (watch) watch->after_step();
     }
     step += sample_steps;
-    detector.observe(scene.time(), step >= limit_steps, state_of());
+    detector.observe(state_of());
     if (step % report_steps != 0 && step < limit_steps) continue;
     on_steps(step);
     const int now = detector.running();
@@ -162,31 +201,10 @@ void run_obstacle_batch(const ObstacleEnsembleParameters& par, const std::vector
   if (seeds.empty()) throw std::invalid_argument("obstacle ensemble: no replicas");
   const int n = int(seeds.size());
   const auto box = periodic_square<Real>(par.box_length);
-  const Real diameter = Real(par.obstacle_diameter), cell = Real(par.obstacle_diameter + par.gap);
+  const Real diameter = Real(par.obstacle_diameter), cell = Real(par.cell_width());
   std::vector<std::vector<Vec<2, double>>> arrays;
-  for (const std::uint64_t seed : seeds)
-    arrays.push_back(par.obstacle_fraction > 0
-                         ? random_sequential_obstacles(par.box_length, par.box_length, par.obstacle_diameter, par.gap,
-                                                       obstacle_count(par), seed)
-                         : poisson_disk_obstacles(par.box_length, par.box_length, par.obstacle_diameter, par.gap, seed));
-  const Vec<2, double> centre{{0.5 * par.box_length, 0.5 * par.box_length}};
-  // DP: clear the start disk. Eq. 3 repels vertices only, so FIRE pushes the vertices off the
-  // obstacles under the initial droplet but leaves those it encloses inside the polygon: at φ = 0.195
-  // every replica started with 1–3 obstacles inside the droplet (7 of 16 at φ = 0.05) and hung on
-  // them from inside (docs/droplets.md). Obstacles whose centre lies within (σ + σ_ob)/2 + w_ob/4 of
-  // the start are removed. (The SP droplet is one disk: FIRE resolves its overlaps.)
-  if (par.model == DropletModel::deformable_polygon) {
-    const double clear = 0.5 * (1.0 + par.obstacle_diameter) + 0.25 * par.gap;
-    for (auto& a : arrays)
-      a.erase(std::remove_if(a.begin(), a.end(),
-                             [&](const Vec<2, double>& c) {
-                               double dx = c[0] - centre[0], dy = c[1] - centre[1];
-                               dx -= par.box_length * std::round(dx / par.box_length);
-                               dy -= par.box_length * std::round(dy / par.box_length);
-                               return dx * dx + dy * dy < clear * clear;
-                             }),
-              a.end());
-  }
+  for (const std::uint64_t seed : seeds) arrays.push_back(replica_obstacles(par, seed));
+  const Vec<2, double> centre = start_centre(par);
   std::vector<int> which(std::size_t(n), 0);  // replica k in array k
   std::iota(which.begin(), which.end(), 0);
   const Surfaces<Real, ExecSpace> batch_surfaces(ObstacleArray<Real, ExecSpace>::from_arrays(box, arrays, diameter, cell));
@@ -352,6 +370,192 @@ SweepSteps run_sweep_points(const ObstacleSweep& sweep, const std::vector<std::p
     }
   }
   return run;
+}
+
+}  // namespace mesoflow::droplets
+
+namespace mesoflow::droplets {
+
+// A whole DP sweep in one batch (issue 25 item 3): every (point, replica) of `todo` advances in
+// the same Kokkos launches. `points[p]` is point p's scene (any Γ, K_l, b0/b∞, V_t and w_ob; the
+// other fields shared); replica j of point p lives in the obstacle array of replica_seed(seed, j)
+// at that point's w_ob and runs at its point's own stable Δt (per-particle steps).
+//
+// `slots` droplets are stepped together. A replica that finishes (clogged or at its time limit) is
+// reported and its slot refilled with the next pending (point, replica) — relaxed alone by FIRE as
+// in run_obstacle_batch — so the batch stays full while work remains; once the queue is empty and
+// at most half the slots still run, the batch is compacted to its running replicas (their state,
+// candidates and clocks carried over bitwise), so finished replicas stop costing work. Every
+// replica's record is bitwise that of a batch of its own with the sweep's cell width
+// (ObstacleEnsembleParameters::cell_gap; tests/dp/test_obstacle_sweep_batch.cpp).
+//
+// on_finished(p, replica, seed, record) as each finishes; on_steps(replica_steps_done) every few
+// hundred steps. Returns the steps run and the replica-steps run (slots × steps, summed).
+struct BatchedSweepStats {
+  long long steps = 0, replica_steps = 0, refills = 0, compactions = 0;
+};
+template <class Real = double, class ExecSpace = Kokkos::DefaultExecutionSpace, class OnFinished, class OnSteps>
+BatchedSweepStats run_sweep_batched(std::vector<ObstacleEnsembleParameters> points,
+                                    const std::vector<std::vector<int>>& todo, std::uint64_t seed, int slots,
+                                    OnFinished&& on_finished, OnSteps&& on_steps) {
+  using namespace ensemble_detail;
+  using Scene = DropletScene<Real, ExecSpace>;
+  BatchedSweepStats stats;
+  if (points.empty() || todo.size() != points.size())
+    throw std::invalid_argument("batched sweep: one replica list per point");
+  if (slots < 1) throw std::invalid_argument("batched sweep: --batch must be >= 1");
+  double smallest_gap = points.front().gap;
+  for (const auto& par : points) {
+    if (par.model != DropletModel::deformable_polygon)
+      throw std::invalid_argument("batched sweep: DP points only (SP sweeps run point by point)");
+    if (par.box_length != points.front().box_length || par.obstacle_diameter != points.front().obstacle_diameter ||
+        par.time_limit != points.front().time_limit || par.clog_threshold != points.front().clog_threshold ||
+        par.clog_test != points.front().clog_test || par.relax_iterations != points.front().relax_iterations)
+      throw std::invalid_argument(
+          "batched sweep: the points must share the box, obstacle diameter, time limit, clog test and relaxation");
+    smallest_gap = std::min(smallest_gap, par.gap);
+  }
+  for (auto& par : points) par.cell_gap = smallest_gap;
+  const ObstacleEnsembleParameters& common = points.front();
+
+  // The work items, point-major, and the obstacle arrays they need (one per (w_ob, replica)).
+  struct Task {
+    int point, replica, array;
+    std::uint64_t seed;
+  };
+  std::vector<Task> tasks;
+  std::vector<std::vector<Vec<2, double>>> arrays;
+  std::vector<std::pair<double, int>> array_key;  // (w_ob, replica) of each array
+  for (std::size_t p = 0; p < points.size(); ++p)
+    for (const int j : todo[p]) {
+      const std::pair<double, int> key{points[p].gap, j};
+      auto it = std::find(array_key.begin(), array_key.end(), key);
+      const std::uint64_t s = replica_seed(seed, j);
+      if (it == array_key.end()) {
+        array_key.push_back(key);
+        arrays.push_back(replica_obstacles(points[p], s));
+        it = array_key.end() - 1;
+      }
+      tasks.push_back({int(p), j, int(it - array_key.begin()), s});
+    }
+  if (tasks.empty()) return stats;
+  const auto box = periodic_square<Real>(common.box_length);
+  const Real diameter = Real(common.obstacle_diameter), cell = Real(common.cell_width());
+  const Surfaces<Real, ExecSpace> surfaces(ObstacleArray<Real, ExecSpace>::from_arrays(box, arrays, diameter, cell));
+  const Vec<2, double> centre = start_centre(common);
+  const double angle = common.gravity_angle() * dp::pi / 180.0;
+  const Vec<2, double> gravity{{std::cos(angle), std::sin(angle)}};
+
+  // A task's relaxed start (alone, in a scene of its own array) and its detector limits.
+  const auto relaxed = [&](const Task& t) {
+    Scene alone(points[std::size_t(t.point)].droplet,
+                Surfaces<Real, ExecSpace>(ObstacleArray<Real, ExecSpace>(box, arrays[std::size_t(t.array)], diameter, cell)),
+                {centre});
+    alone.relax(common.relax_iterations);
+    return alone.droplet_vertices(0);
+  };
+  const auto limits_of = [&](const Task& t, double dt) {
+    const double v_t = points[std::size_t(t.point)].terminal_speed();
+    return ReplicaLimits{0.5 * droplet_mass * v_t * v_t, v_t, common.time_limit, dt};
+  };
+
+  // The first slots.
+  std::size_t next = 0;
+  std::vector<int> slot_task;  // task of each slot
+  const int n0 = int(std::min<std::size_t>(std::size_t(slots), tasks.size()));
+  std::vector<DropletParameters> per_body;
+  std::vector<int> which_array;
+  for (int k = 0; k < n0; ++k, ++next) {
+    slot_task.push_back(int(next));
+    per_body.push_back(points[std::size_t(tasks[next].point)].droplet);
+    which_array.push_back(tasks[next].array);
+  }
+  auto scene = std::make_unique<Scene>(per_body, surfaces, std::vector<Vec<2, double>>(std::size_t(n0), centre), which_array);
+  for (int k = 0; k < n0; ++k) scene->place_droplet(k, relaxed(tasks[std::size_t(slot_task[std::size_t(k)])]));
+  scene->compute_step_forces();
+  const auto state_of = [&scene] {
+    const auto& s = scene->update_body_state();
+    return DeformableReplicaState<Real, ExecSpace>{s.com, s.kinetic_energy};
+  };
+  auto detector = std::make_unique<ClogDetector<ExecSpace>>(n0, common.clog_threshold, gravity, common.clog_test,
+                                                            common.early, sample_steps);
+  {
+    std::vector<int> all(static_cast<std::size_t>(n0));
+    std::vector<ReplicaLimits> limits;
+    for (int k = 0; k < n0; ++k) {
+      all[std::size_t(k)] = k;
+      limits.push_back(limits_of(tasks[std::size_t(slot_task[std::size_t(k)])], scene->dt(k)));
+    }
+    detector->restart(all, limits, state_of());
+  }
+  auto watch = watchdog::watch_if_possible(*scene, watchdog_interval);
+  int live = n0;
+  long long step = 0;
+  while (live > 0) {
+    for (int k = 0; k < sample_steps; ++k) {
+      scene->step();
+      if (watch) watch->after_step();
+    }
+    step += sample_steps;
+    stats.replica_steps += (long long)(slot_task.size()) * sample_steps;
+    detector->observe(state_of());
+    if (step % report_steps != 0) continue;
+    on_steps(stats.replica_steps);
+    const int now = detector->running();
+    if (now == live) continue;
+    // Report the finished replicas; refill their slots while tasks remain.
+    const std::vector<int> status = detector->status();
+    std::vector<int> refill;
+    std::vector<ReplicaLimits> refill_limits;
+    for (std::size_t k = 0; k < slot_task.size(); ++k) {
+      if (slot_task[k] < 0 || status[k] == replica_status::running) continue;
+      const Task& done = tasks[std::size_t(slot_task[k])];
+      on_finished(std::size_t(done.point), done.replica, done.seed, detector->record(int(k)));
+      slot_task[k] = -1;
+      if (next < tasks.size()) {
+        const Task& t = tasks[next];
+        scene->replace_droplet(int(k), points[std::size_t(t.point)].droplet, t.array, relaxed(t));
+        slot_task[k] = int(next++);
+        refill.push_back(int(k));
+        refill_limits.push_back(limits_of(t, scene->dt(int(k))));
+      }
+    }
+    if (!refill.empty()) {
+      scene->refresh_forces(refill);
+      detector->restart(refill, refill_limits, state_of());
+      watch.reset();  // the watchdog's last good state predates the refill
+      watch = watchdog::watch_if_possible(*scene, watchdog_interval);
+      stats.refills += (long long)(refill.size());
+    }
+    live = 0;
+    for (const int t : slot_task) live += t >= 0 ? 1 : 0;
+    // Compact: the queue is empty and at most half the slots still run.
+    if (live > 0 && next == tasks.size() && 2 * live <= int(slot_task.size())) {
+      std::vector<int> keep, kept_task;
+      std::vector<DropletParameters> kept_par;
+      std::vector<int> kept_array;
+      for (std::size_t k = 0; k < slot_task.size(); ++k)
+        if (slot_task[k] >= 0) {
+          keep.push_back(int(k));
+          kept_task.push_back(slot_task[k]);
+          kept_par.push_back(scene->parameters(int(k)));
+          kept_array.push_back(tasks[std::size_t(slot_task[k])].array);
+        }
+      const auto states = scene->export_droplets();
+      std::vector<typename Scene::DropletState> kept_states;
+      for (const int k : keep) kept_states.push_back(states[std::size_t(k)]);
+      const long long scene_steps = scene->steps();
+      watch.reset();
+      scene = std::make_unique<Scene>(kept_par, surfaces, std::vector<Vec<2, double>>(keep.size(), centre), kept_array);
+      scene->import_droplets(kept_states, scene_steps);
+      detector = std::make_unique<ClogDetector<ExecSpace>>(detector->compacted(keep));
+      watch = watchdog::watch_if_possible(*scene, watchdog_interval);
+      slot_task = kept_task;
+      ++stats.compactions;
+    }
+  }
+  stats.steps = step;
+  return stats;
 }
 
 }  // namespace mesoflow::droplets

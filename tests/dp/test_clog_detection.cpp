@@ -45,15 +45,16 @@ struct Synthetic {
 
 std::vector<ReplicaRecord> run(ClogTest test, double time_limit, const EarlyClogParameters& early = {}) {
   const int n = 5;
-  ClogDetector<Kokkos::DefaultExecutionSpace> detector(n, e_t, 1e-17, time_limit, Vec<2, double>{{1.0, 0.0}}, test,
-                                                       early, v_t);
-  detector.start(Synthetic{0.0});
+  ClogDetector<Kokkos::DefaultExecutionSpace> detector(n, 1e-17, Vec<2, double>{{1.0, 0.0}}, test, early, 1);
   const double dt = 0.01;
+  detector.start(ReplicaLimits{e_t, v_t, time_limit, dt}, Synthetic{0.0});
   for (long long step = 1;; ++step) {
-    const double t = step * dt;
-    const bool at_limit = t >= time_limit - 1e-9;
-    detector.observe(t, at_limit, Synthetic{t});
-    if (at_limit || detector.running() == 0) break;
+    detector.observe(Synthetic{step * dt});
+    if (detector.running() == 0) break;
+    if (step * dt > time_limit + 1) {
+      ADD_FAILURE() << "a replica ran past the time limit";
+      break;
+    }
   }
   std::vector<ReplicaRecord> out;
   for (int b = 0; b < n; ++b) out.push_back(detector.record(b));
