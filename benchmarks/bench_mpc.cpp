@@ -10,6 +10,8 @@
 //     1000Δx × 15Δx, n = 40, walls, 90 discs on the axis, AT+a), with the walls' cut cells filled
 //     by the mirror images (rule 0, the default) or by Appendix B's Maxwell–Boltzmann particles
 //     (rule 1): what the mirror images' selection pass costs. items = solvent particles × steps.
+//   BM_MpcStepCellSums<2, double, at+a>/…/mode: the paper's solvent with each cell-sum mode (chunked,
+//     atomic, sorted = the deterministic-sum mode of issue 26 item 4): what determinism costs.
 // perf/run normalises these rates by bench_common's BM_ReferenceTriad (x ← x + h v over 2²⁰ 3D
 // double particles) measured in the same run.
 // Particles start at uniformly random positions in random memory order; the third argument sorts
@@ -78,11 +80,12 @@ using bench::timed;
 // Arguments: particles, particles per cell, sort interval (MpcCollision::sort_by_cell every that
 // many steps, its cost included; 0: never, the particles stay in random memory order).
 template <int D, class Real, CollisionRule Rule, bool Fused>
-void mpc_step(benchmark::State& state) {
+void mpc_step(benchmark::State& state, mpc::CellSums sums = mpc::CellSums::automatic) {
   const int n = int(state.range(0)), per_cell = int(state.range(1)), sort_every = int(state.range(2));
   auto box = make_box<D, Real>(n, per_cell);
   mpc::CollisionParameters<Real> p;
   p.rule = Rule;
+  p.cell_sums = sums;
   mpc::MpcCollision<D, Real, Exec> collision(box.grid, p, std::size_t(n));
   Kokkos::Array<Real, D> g;
   for (int d = 0; d < D; ++d) g[d] = Real(0);
@@ -119,11 +122,24 @@ void BM_MpcStepSeparate(benchmark::State& state) {
   mpc_step<D, Real, Rule, false>(state);
 }
 
-// Argument: 0 mirror images, 1 Appendix B's Maxwell–Boltzmann wall particles.
+// The cost of the deterministic-sum mode (issue 26 item 4): the fused step with the cell sums of
+// mode state.range(3): 0 chunked (per-thread copies, the host default), 1 atomic (the device
+// default), 2 sorted (index-ordered segments after a BinSort: the same bits on every backend).
+template <int D, class Real, CollisionRule Rule>
+void BM_MpcStepCellSums(benchmark::State& state) {
+  const mpc::CellSums modes[] = {mpc::CellSums::chunked, mpc::CellSums::atomic, mpc::CellSums::sorted};
+  const char* names[] = {"chunked", "atomic", "sorted"};
+  mpc_step<D, Real, Rule, true>(state, modes[state.range(3)]);
+  state.SetLabel(names[state.range(3)]);
+}
+
+// Argument: 0 mirror images, 1 Appendix B's Maxwell–Boltzmann wall particles, 2 mirror images in
+// the deterministic-sum mode (sorted cell sums and disc impulses).
 template <class Real>
 void BM_ChannelFlowStep(benchmark::State& state) {
   mpc::ChannelFlowParameters<Real> p;  // the paper's scene (Appendix B)
-  p.wall_virtual = state.range(0) == 0 ? mpc::WallVirtualRule::mirror : mpc::WallVirtualRule::maxwell;
+  p.wall_virtual = state.range(0) == 1 ? mpc::WallVirtualRule::maxwell : mpc::WallVirtualRule::mirror;
+  p.deterministic = state.range(0) == 2;
   const int discs = 90;
   std::vector<std::array<Real, 2>> centres;
   for (int k = 0; k < discs; ++k) centres.push_back({Real((k + 0.5) * double(p.length) / discs), Real(0.5) * p.width});
@@ -134,7 +150,7 @@ void BM_ChannelFlowStep(benchmark::State& state) {
     for (int s = 0; s < steps; ++s) flow.step();
   });
   state.SetItemsProcessed(state.iterations() * std::int64_t(steps) * std::int64_t(flow.num_solvent()));
-  state.SetLabel(mpc::to_string(p.wall_virtual));
+  state.SetLabel(mpc::to_string(p.wall_virtual) + (p.deterministic ? " deterministic" : ""));
 }
 
 constexpr auto srd = CollisionRule::srd;
@@ -149,7 +165,13 @@ BENCHMARK_TEMPLATE(BM_MpcStep, 2, double, at_minus_a)->Args({600000, 40, 25})->U
 BENCHMARK_TEMPLATE(BM_MpcStep, 3, double, at_plus_a)->Args({1000000, 10, 25})->UseManualTime()->Unit(benchmark::kMillisecond);
 BENCHMARK_TEMPLATE(BM_MpcStepSeparate, 2, double, at_plus_a)->Args({600000, 40, 25})->UseManualTime()->Unit(benchmark::kMillisecond);
 BENCHMARK_TEMPLATE(BM_MpcStepSeparate, 3, double, srd)->Args({1000000, 10, 25})->UseManualTime()->Unit(benchmark::kMillisecond);
-BENCHMARK_TEMPLATE(BM_ChannelFlowStep, double)->Arg(0)->Arg(1)->UseManualTime()->Unit(benchmark::kMillisecond);
+BENCHMARK_TEMPLATE(BM_ChannelFlowStep, double)->Arg(0)->Arg(1)->Arg(2)->UseManualTime()->Unit(benchmark::kMillisecond);
+BENCHMARK_TEMPLATE(BM_MpcStepCellSums, 2, double, at_plus_a)
+    ->Args({600000, 40, 25, 0})
+    ->Args({600000, 40, 25, 1})
+    ->Args({600000, 40, 25, 2})
+    ->UseManualTime()
+    ->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace mesoflow

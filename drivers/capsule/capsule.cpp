@@ -210,6 +210,9 @@ int main(int argc, char** argv) {
   app.add_choice("--walls", par.walls, "wall velocity seen by the fluid: morris (no slip) or prescribed (the paper's)",
                  {"morris", "prescribed"});
   app.add_real("--viscosity-ratio", par.viscosity_ratio, "inner/outer viscosity", 0.01, 100.0);
+  app.add_flag("--deterministic", par.deterministic,
+               "deterministic sums: full neighbor lists (each particle sums its own forces), bitwise the same on "
+               "every backend and thread count (docs/design.md; about twice the pair work)");
   app.add_real("--c0", par.c0, "sound speed of eq. (6) in units of U (0: the rule of the file comment)", 0.0, 1e4);
   app.add_real("--density-variation", par.density_variation,
                "target density variation delta of c0's rule (paper: below 1%)", 1e-4, 0.1);

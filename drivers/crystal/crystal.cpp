@@ -176,6 +176,9 @@ int main(int argc, char** argv) {
                "K = u_d/u_oil of a single-disc run for the theory curves (0: this run's own ratio)", 0.0, 1.0);
   app.add_int("--seed", par.seed, "random seed (solvent, collisions)", 0, 4294967295LL);
   app.add_choice("--precision", par.precision, "floating-point precision of the kernels", {"double", "float"});
+  app.add_flag("--deterministic", f.deterministic,
+               "deterministic sums: MPC cell sums and disc impulses over index-ordered segments, bitwise the same on "
+               "every backend and thread count (docs/design.md; costs a sort per step)");
   app.add_int("--threads", par.threads, "host threads (0: OMP_NUM_THREADS or all cores)", 0, 4096);
   app.add_flag("--restart", par.restart, "continue from <out>.ckpt.h5");
   app.add_flag("--no-plot", par.no_plot, "do not write the PNG plot");

@@ -1,9 +1,12 @@
 // cell_list.hpp — binning of particles into a regular grid of cells, stored as CSR.
 //
-// Built as a counting sort (count → exclusive scan → fill), then each cell's members are sorted by
-// particle index, so the order — and every floating-point sum that later follows it — does not
-// depend on thread scheduling. Nothing has a fixed capacity: arrays grow when the particle or cell
-// count does, and are reused otherwise (no allocation in a time-step loop at fixed size).
+// Built with Kokkos::BinSort (issue 26 item 5: Kokkos' own sort on every backend) on the unique key
+// cell · n + i with one exact bin per cell (ExactBinOp, segment_order.hpp: an integer quotient;
+// Kokkos' BinOp1D bins by a floating-point product that can round the key k·n down into cell
+// k − 1), sorted within bins: by cell, then by particle index, so the order — and every
+// floating-point sum that later follows it — does not depend on thread scheduling or backend. Nothing has a fixed capacity: arrays and the sorter are
+// rebuilt when the particle or cell count changes, and reused otherwise (no allocation in a
+// time-step loop at fixed size).
 #pragma once
 
 #include "kernel_launch.hpp"
@@ -11,8 +14,13 @@
 #include "kokkos_compat.hpp"
 #include "vec.hpp"
 
+#include "segment_order.hpp"
+
+#include <cstdint>
+#include <optional>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 
 namespace mesoflow {
 
@@ -78,64 +86,56 @@ class CellList {
 
     auto grid = grid_;
     auto cell_of = cell_of_;
-    auto counts = counts_;
     auto offset = cell_offset_;
     auto slots = cell_particles_;
     auto xb = x_binned_;
-
     mesoflow::launch::parallel_for(
-        "mesoflow::cell_list::clear", Kokkos::RangePolicy<ExecSpace>(0, ncell),
-        KOKKOS_LAMBDA(int k) { counts(k) = 0; });
-    mesoflow::launch::parallel_for(
-        "mesoflow::cell_list::count", Kokkos::RangePolicy<ExecSpace>(0, n), KOKKOS_LAMBDA(int i) {
+        "mesoflow::cell_list::cells", Kokkos::RangePolicy<ExecSpace>(0, n), KOKKOS_LAMBDA(int i) {
           Vec<D, Real> xi = Vec<D, Real>::load(x, i);
           box.wrap(xi);
           int c[D];
           for (int d = 0; d < D; ++d) c[d] = grid.coordinate(xi[d], d);
-          const int k = grid.index(c);
-          cell_of(i) = k;
-          Kokkos::atomic_add(&counts(k), 1);
+          cell_of(i) = grid.index(c);
         });
-    mesoflow::launch::parallel_scan(
-        "mesoflow::cell_list::offsets", Kokkos::RangePolicy<ExecSpace>(0, ncell + 1),
-        KOKKOS_LAMBDA(int k, int& partial, bool final) {
-          const int c = k < ncell ? counts(k) : 0;
-          if (final) {
-            offset(k) = partial;
-            if (k < ncell) counts(k) = 0;  // reused below as the fill cursor
-          }
-          partial += c;
-        });
-    // Each particle writes its index and its folded position straight into its slot (one
-    // scattered write instead of a gather of D separate SoA components later).
+    if (n == 0) {
+      Kokkos::deep_copy(cell_offset_, 0);
+      num_particles_ = 0;
+      return;
+    }
+    // Keys cell · n + i; BinSort with one exact bin per cell (ExactBinOp), sorted within bins.
+    const auto keys = keys_;
+    const std::int64_t stride = n;
     mesoflow::launch::parallel_for(
-        "mesoflow::cell_list::fill", Kokkos::RangePolicy<ExecSpace>(0, n), KOKKOS_LAMBDA(int i) {
-          const int k = cell_of(i);
-          const int s = offset(k) + Kokkos::atomic_fetch_add(&counts(k), 1);
+        "mesoflow::cell_list::keys", Kokkos::RangePolicy<ExecSpace>(0, n),
+        KOKKOS_LAMBDA(int i) { keys(i) = std::int64_t(cell_of(i)) * stride + i; });
+    if (!sorter_ || sorter_rows_ != n || sorter_cells_ != ncell) {  // the first build, or another size
+      sorter_.emplace(keys_, 0, n, ExactBinOp<std::int64_t>{ncell, stride}, true);
+      sorter_rows_ = n;
+      sorter_cells_ = ncell;
+    }
+    // create_permute_vector() adds to the bin counts its last binning left (only BinSort's
+    // constructor zeroes them): zero them through a writable alias first.
+    const auto bin_count = sorter_->get_bin_count();
+    using count_type = std::remove_const_t<typename decltype(bin_count)::value_type>;
+    const Kokkos::View<count_type*, ExecSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>> counts(
+        const_cast<count_type*>(bin_count.data()), bin_count.extent(0));
+    mesoflow::launch::parallel_for(
+        "mesoflow::cell_list::zero_bins", Kokkos::RangePolicy<ExecSpace>(0, int(counts.extent(0))),
+        KOKKOS_LAMBDA(int b) { counts(b) = 0; });
+    sorter_->create_permute_vector();
+    const auto order = sorter_->get_permute_vector();
+    const auto bin_offsets = sorter_->get_bin_offsets();
+    mesoflow::launch::parallel_for(
+        "mesoflow::cell_list::offsets", Kokkos::RangePolicy<ExecSpace>(0, ncell + 1),
+        KOKKOS_LAMBDA(int k) { offset(k) = k < ncell ? int(bin_offsets(k)) : n; });
+    // Each slot gathers its particle's index and folded position.
+    mesoflow::launch::parallel_for(
+        "mesoflow::cell_list::fill", Kokkos::RangePolicy<ExecSpace>(0, n), KOKKOS_LAMBDA(int s) {
+          const int i = int(order(s));
           slots(s) = i;
           Vec<D, Real> xi = Vec<D, Real>::load(x, i);
           box.wrap(xi);
           xi.store(xb, s);
-        });
-    // Atomics leave each cell in thread-dependent order: sort it by particle index, moving the
-    // positions along (insertion sort: cells hold few particles).
-    mesoflow::launch::parallel_for(
-        "mesoflow::cell_list::order", Kokkos::RangePolicy<ExecSpace>(0, ncell), KOKKOS_LAMBDA(int k) {
-          const int begin = offset(k), end = offset(k + 1);
-          for (int s = begin + 1; s < end; ++s) {
-            const int key = slots(s);
-            if (slots(s - 1) < key) continue;
-            Real key_x[D];
-            for (int d = 0; d < D; ++d) key_x[d] = xb(s, d);
-            int t = s - 1;
-            while (t >= begin && slots(t) > key) {
-              slots(t + 1) = slots(t);
-              for (int d = 0; d < D; ++d) xb(t + 1, d) = xb(t, d);
-              --t;
-            }
-            slots(t + 1) = key;
-            for (int d = 0; d < D; ++d) xb(t + 1, d) = key_x[d];
-          }
         });
     num_particles_ = n;
   }
@@ -154,16 +154,20 @@ class CellList {
       cell_particles_ = int_view(Kokkos::ViewAllocateWithoutInitializing("mesoflow::cell_list::slots"), n);
       x_binned_ = binned_positions(Kokkos::ViewAllocateWithoutInitializing("mesoflow::cell_list::x"), n);
     }
-    if (int(counts_.extent(0)) != ncell) {
-      counts_ = int_view(Kokkos::ViewAllocateWithoutInitializing("mesoflow::cell_list::counts"), ncell);
+    if (int(keys_.extent(0)) != n)
+      keys_ = key_view(Kokkos::ViewAllocateWithoutInitializing("mesoflow::cell_list::keys"), std::size_t(n));
+    if (int(cell_offset_.extent(0)) != ncell + 1)
       cell_offset_ = int_view(Kokkos::ViewAllocateWithoutInitializing("mesoflow::cell_list::offset"), ncell + 1);
-    }
   }
 
   CellGrid<D, Real> grid_{};
   int num_particles_ = 0;
-  int_view cell_of_, counts_, cell_offset_, cell_particles_;
+  int_view cell_of_, cell_offset_, cell_particles_;
   binned_positions x_binned_;
+  using key_view = Kokkos::View<std::int64_t*, ExecSpace>;
+  key_view keys_;  // cell · n + i
+  std::optional<Kokkos::BinSort<key_view, ExactBinOp<std::int64_t>>> sorter_;
+  int sorter_rows_ = -1, sorter_cells_ = -1;
 };
 
 }  // namespace mesoflow

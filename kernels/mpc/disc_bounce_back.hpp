@@ -19,17 +19,24 @@
 // −(r_c − X) × Δp, added to RigidDiscs::impulse through a ScatterView (thread-duplicated on
 // OpenMP, where the static RangePolicy gives every duplicate a fixed set of particles in a fixed
 // order, so the sums are reproducible at a fixed thread count; atomic on GPUs, not reproducible).
+// With `deterministic` (the deterministic-sum mode, issue 26 item 4) each particle's Δp is stored
+// instead, the particles are ordered by the disc they hit (kernels/common/segment_order.hpp) and each
+// disc sums its particles' impulses in index order: bitwise the same on every backend and thread
+// count, for a sort of the particles per step.
 // Particles that cross a disc entirely within one step, or that a bounce moves into another disc or
 // through a wall, are not treated (the step moves particles by h|v| ≪ R and ≪ the gaps).
 #pragma once
 
 #include "../common/kernel_launch.hpp"
 #include "kernels/common/kokkos_compat.hpp"
+#include "kernels/common/segment_order.hpp"
 #include "kernels/common/vec.hpp"
 #include "kernels/mpc/rigid_discs.hpp"
 
 #include <Kokkos_ScatterView.hpp>
 
+#include <algorithm>
+#include <optional>
 #include <stdexcept>
 #include <type_traits>
 
@@ -75,13 +82,17 @@ class DiscBounceBack {
  public:
   using vector_view = Kokkos::View<Real* [2], Kokkos::LayoutLeft, ExecSpace>;
 
-  // `mass`: the solvent particle mass m. The scatter view is created here, once.
-  DiscBounceBack(const RigidDiscs<Real, ExecSpace>& discs, Real mass)
+  // `mass`: the solvent particle mass m. The scatter view is created here, once; with
+  // `deterministic`, the per-particle buffers and the sorter at the first apply().
+  DiscBounceBack(const RigidDiscs<Real, ExecSpace>& discs, Real mass, bool deterministic = false)
       : mass_(mass),
+        deterministic_(deterministic),
         scatter_(Kokkos::Experimental::create_scatter_view(discs.impulse)),
         target_(discs.impulse.data()) {
     if (!(mass > Real(0))) throw std::invalid_argument("disc bounce-back: mass must be > 0");
   }
+
+  bool deterministic() const { return deterministic_; }
 
   // Bounce-back of every row of (x, v) after a streaming step of length h (see the file comment);
   // adds the discs' impulses to discs.impulse (which must be the view given to the constructor).
@@ -89,6 +100,10 @@ class DiscBounceBack {
     if (discs.size() == 0) return;
     if (discs.impulse.data() != target_)
       throw std::invalid_argument("disc bounce-back: not the discs given to the constructor");
+    if (deterministic_) {
+      apply_sorted(x, v, h, discs);
+      return;
+    }
     scatter_.reset_except(discs.impulse);
     auto scatter = scatter_;
     const auto bins = discs.bins();
@@ -128,10 +143,75 @@ class DiscBounceBack {
     Kokkos::Experimental::contribute(impulse, scatter_);
   }
 
+  // apply() in the deterministic-sum mode; public only because nvcc rejects a KOKKOS_LAMBDA in a
+  // private member function.
+  void apply_sorted(const vector_view& x, const vector_view& v, Real h, const RigidDiscs<Real, ExecSpace>& discs) {
+    const int n = int(x.extent(0)), nd = int(discs.size());
+    if (!order_ || order_->rows() != std::max(n, 1) || order_->segments() != nd) {  // first use, or resized
+      order_.emplace(std::max(n, 1), nd);
+      hit_ = Kokkos::View<int*, ExecSpace>(Kokkos::ViewAllocateWithoutInitializing("mesoflow::mpc::disc_hit"),
+                                           std::size_t(std::max(n, 1)));
+      dp_ = Kokkos::View<double* [3], Kokkos::LayoutRight, ExecSpace>(
+          Kokkos::ViewAllocateWithoutInitializing("mesoflow::mpc::disc_dp"), std::size_t(std::max(n, 1)));
+    }
+    const auto hit_of = hit_;
+    const auto dp = dp_;
+    const auto bins = discs.bins();
+    const auto X = discs.x;
+    const auto U = discs.u;
+    const auto W = discs.omega;
+    const Real radius = discs.radius(), m = mass_;
+    mesoflow::launch::parallel_for(
+        "mesoflow::mpc::disc_bounce_back_store", Kokkos::RangePolicy<ExecSpace>(0, n), KOKKOS_LAMBDA(int i) {
+          const Vec<2, Real> xi = Vec<2, Real>::load(x, i);
+          int hit = -1;
+          Vec<2, Real> r;
+          bins.for_each_near(xi, [&](int k) {
+            if (hit >= 0) return;
+            const Vec<2, Real> dr = bins.separation(xi, Vec<2, Real>::load(X, k));
+            if (norm2(dr) < radius * radius) {
+              hit = k;
+              r = dr;
+            }
+          });
+          hit_of(i) = hit;
+          if (hit < 0) return;
+          const Vec<2, Real> v_old = Vec<2, Real>::load(v, i);
+          Vec<2, Real> vi = v_old;
+          const Vec<2, Real> rc = bounce_on_disc(r, vi, h, radius, Vec<2, Real>::load(U, hit), W(hit));
+          Vec<2, Real> xn = Vec<2, Real>::load(X, hit) + r;
+          bins.box.wrap(xn);
+          xn.store(x, i);
+          vi.store(v, i);
+          const double dpx = double(m) * (double(vi[0]) - double(v_old[0]));
+          const double dpy = double(m) * (double(vi[1]) - double(v_old[1]));
+          dp(i, 0) = dpx;
+          dp(i, 1) = dpy;
+          dp(i, 2) = double(rc[0]) * dpy - double(rc[1]) * dpx;
+        });
+    order_->sort(n, hit_of);
+    const auto order = order_->view();
+    const auto impulse = discs.impulse;
+    mesoflow::launch::parallel_for(
+        "mesoflow::mpc::disc_impulse_sums", Kokkos::RangePolicy<ExecSpace>(0, nd), KOKKOS_LAMBDA(int k) {
+          double s[3] = {0.0, 0.0, 0.0};
+          for (int q = order.begin(k); q < order.end(k); ++q) {
+            const int i = order.row(q);
+            if (i >= n || hit_of(i) != k) continue;  // rows of no disc, dealt to this one
+            for (int c = 0; c < 3; ++c) s[c] -= dp(i, c);
+          }
+          for (int c = 0; c < 3; ++c) impulse(k, c) += s[c];
+        });
+  }
+
  private:
   Real mass_;
+  bool deterministic_;
   Kokkos::Experimental::ScatterView<double* [3], Kokkos::LayoutRight, ExecSpace> scatter_;
   const double* target_;
+  std::optional<SegmentOrder<ExecSpace>> order_;  // the deterministic mode's: particles by disc
+  Kokkos::View<int*, ExecSpace> hit_;             // disc hit by each particle this step, or −1
+  Kokkos::View<double* [3], Kokkos::LayoutRight, ExecSpace> dp_;  // its Δp and angular Δp
 };
 
 }  // namespace mesoflow::mpc

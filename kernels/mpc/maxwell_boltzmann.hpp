@@ -9,6 +9,7 @@
 #include "kernels/common/random.hpp"
 #include "kernels/common/reductions.hpp"
 
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <stdexcept>
@@ -44,11 +45,13 @@ KOKKOS_INLINE_FUNCTION void thermal_velocity(RandomStream& rs, Real speed, Real 
 
 // v(i, ·) = thermal_velocity from the stream (seed, step 0, initial_condition, i, field), so the same
 // velocities at any thread count before the mean is removed; the mean is summed in double
-// (deterministic at a fixed thread count). `field` keeps the velocities independent of positions
-// filled from the same seed by fill_uniform_counter (field 0 by default).
+// (deterministic at a fixed thread count; with `ordered_mean`, summed on the host in index order:
+// the same bits on every backend and thread count, for the deterministic-sum mode — setup only, a
+// copy to the host). `field` keeps the velocities independent of positions filled from the same
+// seed by fill_uniform_counter (field 0 by default).
 template <int D, class Real, class ExecSpace>
 void fill_maxwell_boltzmann(const Kokkos::View<Real* [D], Kokkos::LayoutLeft, ExecSpace>& v, Real kT, Real mass,
-                            std::uint64_t seed, std::uint32_t field = 1) {
+                            std::uint64_t seed, std::uint32_t field = 1, bool ordered_mean = false) {
   if (!(kT >= Real(0)) || !std::isfinite(double(kT)))
     throw std::invalid_argument("Maxwell-Boltzmann velocities: kT must be finite and >= 0, got " +
                                 std::to_string(double(kT)));
@@ -65,10 +68,17 @@ void fill_maxwell_boltzmann(const Kokkos::View<Real* [D], Kokkos::LayoutLeft, Ex
         thermal_velocity(rs, speed, vi);
         for (int d = 0; d < D; ++d) v(i, d) = vi[d];
       });
-  const auto total = parallel_sum<D, ExecSpace>("mesoflow::mpc::maxwell_boltzmann::momentum", n,
-                                                KOKKOS_LAMBDA(const int i, double(&acc)[D]) {
-                                                  for (int d = 0; d < D; ++d) acc[d] += double(v(i, d));
-                                                });
+  std::array<double, D> total{};
+  if (ordered_mean) {
+    const auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), v);
+    for (int i = 0; i < n; ++i)
+      for (int d = 0; d < D; ++d) total[std::size_t(d)] += double(h(i, d));
+  } else {
+    total = parallel_sum<D, ExecSpace>("mesoflow::mpc::maxwell_boltzmann::momentum", n,
+                                       KOKKOS_LAMBDA(const int i, double(&acc)[D]) {
+                                         for (int d = 0; d < D; ++d) acc[d] += double(v(i, d));
+                                       });
+  }
   Kokkos::Array<Real, D> mean;
   for (int d = 0; d < D; ++d) mean[d] = Real(total[d] / n);
   mesoflow::launch::parallel_for(

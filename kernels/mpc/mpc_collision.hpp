@@ -24,7 +24,11 @@
 // passes over the particles per step. The chunked copies need host-like concurrency (T copies of
 // the cell sums); on device execution spaces (CellSums::automatic) kernel 1 instead adds each
 // particle's contribution with atomics into one copy (the ScatterView-on-GPU scheme), which is not
-// bitwise reproducible; tests run that path on OpenMP too (CellSums::atomic). sort_by_cell() reorders anonymous particles by cell every few tens
+// bitwise reproducible; tests run that path on OpenMP too (CellSums::atomic). CellSums::sorted,
+// the deterministic-sum mode (issue 26 item 4), stores each row's contribution in kernel 1, orders
+// the rows by cell with kernels/common/segment_order.hpp and sums each cell over its rows in index
+// order in kernel 2: bitwise the same on every backend and thread count (the order of one chunk on
+// Kokkos::Serial), for a sort per collision. sort_by_cell() reorders anonymous particles by cell every few tens
 // of steps, which keeps the scattered sums and cell reads in cache (bench_mpc.cpp).
 //
 // Random numbers: v^ran of real particle i from particle_stream(seed, step, i); of virtual row j
@@ -44,6 +48,7 @@
 
 #include "kernels/common/kokkos_compat.hpp"
 #include "kernels/common/random.hpp"
+#include "kernels/common/segment_order.hpp"
 
 #include <Kokkos_Sort.hpp>
 
@@ -82,8 +87,20 @@ inline std::string to_string(CollisionRule rule) {
 // How the cell sums are accumulated: `chunked` (one copy of the sums per thread, summed in chunk
 // order: bitwise reproducible at a fixed thread count; host execution spaces), `atomic` (one copy,
 // atomic adds: what device backends use; the order of the additions, and so the last bits, vary
-// from run to run), `automatic` (chunked on host spaces, atomic on device spaces).
-enum class CellSums { automatic, chunked, atomic };
+// from run to run), `automatic` (chunked on host spaces, atomic on device spaces), `sorted` (the
+// deterministic-sum mode, issue 26 item 4: each row's contribution stored, the rows sorted by cell
+// with Kokkos::BinSort, each cell's sum taken over its rows in index order — bitwise the same on
+// every backend and thread count, at the cost of a sort per collision).
+enum class CellSums { automatic, chunked, atomic, sorted };
+
+// "automatic", "chunked", "atomic", "sorted".
+inline CellSums parse_cell_sums(const std::string& name) {
+  if (name == "automatic") return CellSums::automatic;
+  if (name == "chunked") return CellSums::chunked;
+  if (name == "atomic") return CellSums::atomic;
+  if (name == "sorted") return CellSums::sorted;
+  throw std::invalid_argument("cell sums '" + name + "': expected one of automatic, chunked, atomic, sorted");
+}
 
 template <class Real>
 struct CollisionParameters {
@@ -109,7 +126,8 @@ class MpcCollision {
         particle_capacity_(particle_capacity),
         virtual_capacity_(virtual_capacity),
         atomic_sums_(p.cell_sums == CellSums::atomic || (p.cell_sums == CellSums::automatic && !host_space)),
-        num_chunks_(atomic_sums_ ? 1 : (concurrency<ExecSpace>() > 0 ? concurrency<ExecSpace>() : 1)) {
+        sorted_sums_(p.cell_sums == CellSums::sorted),
+        num_chunks_(atomic_sums_ || sorted_sums_ ? 1 : (concurrency<ExecSpace>() > 0 ? concurrency<ExecSpace>() : 1)) {
     if (p.cell_sums == CellSums::chunked && !host_space)
       throw std::invalid_argument("MPC collision: chunked cell sums need a host execution space");
     if (!(p.kT >= Real(0)) || !std::isfinite(double(p.kT)))
@@ -124,8 +142,10 @@ class MpcCollision {
     cell_of_ = Kokkos::View<int*, ExecSpace>(Kokkos::ViewAllocateWithoutInitializing("mesoflow::mpc::cell_of"), rows);
     if (p.rule != CollisionRule::srd)
       vran_ = vector_view(Kokkos::ViewAllocateWithoutInitializing("mesoflow::mpc::vran"), rows);
-    partial_sums_ = Kokkos::View<double*, ExecSpace>(
-        Kokkos::ViewAllocateWithoutInitializing("mesoflow::mpc::partial_sums"), std::size_t(num_chunks_) * cells * sums);
+    // Sorted sums: one row of K sums per particle (real and virtual), reduced per cell after the sort.
+    partial_sums_ = Kokkos::View<double*, ExecSpace>(Kokkos::ViewAllocateWithoutInitializing("mesoflow::mpc::partial_sums"),
+                                                     (sorted_sums_ ? rows : std::size_t(num_chunks_) * cells) * sums);
+    if (sorted_sums_) row_order_.emplace(int(rows), int(cells));
     cell_values_ = Kokkos::View<Real*, ExecSpace>(Kokkos::ViewAllocateWithoutInitializing("mesoflow::mpc::cell_values"),
                                                   cells * values);
     x_sorted_ = vector_view(Kokkos::ViewAllocateWithoutInitializing("mesoflow::mpc::x_sorted"), particle_capacity);
@@ -288,12 +308,14 @@ class MpcCollision {
     const std::uint64_t seed = params_.seed;
     const Real speed = Real(std::sqrt(double(params_.kT) / double(params_.mass)));
 
-    if (atomic_sums_) {
+    const bool sorted = sorted_sums_;
+    if (atomic_sums_ || sorted_sums_) {
+      if (!sorted)
+        mesoflow::launch::parallel_for(
+            "mesoflow::mpc::zero_sums", Kokkos::RangePolicy<ExecSpace>(0, ncell * K),
+            KOKKOS_LAMBDA(const std::size_t k) { partial(k) = 0.0; });
       mesoflow::launch::parallel_for(
-          "mesoflow::mpc::zero_sums", Kokkos::RangePolicy<ExecSpace>(0, ncell * K),
-          KOKKOS_LAMBDA(const std::size_t k) { partial(k) = 0.0; });
-      mesoflow::launch::parallel_for(
-          "mesoflow::mpc::bin_and_sum_atomic", Kokkos::RangePolicy<ExecSpace>(0, n + nv), KOKKOS_LAMBDA(const int i) {
+          sorted ? "mesoflow::mpc::bin_and_store" : "mesoflow::mpc::bin_and_sum_atomic", Kokkos::RangePolicy<ExecSpace>(0, n + nv), KOKKOS_LAMBDA(const int i) {
             const bool real = i < n;
             const int j = real ? i : i - n;
             Real xi[D], vi[D], r[D], vr[D];
@@ -326,7 +348,11 @@ class MpcCollision {
             double local[K];
             for (int k = 0; k < K; ++k) local[k] = 0.0;
             rule.add(local, r, vi, vr);
-            for (int k = 0; k < K; ++k) Kokkos::atomic_add(&partial(std::size_t(c) * K + k), local[k]);
+            if (sorted) {
+              for (int k = 0; k < K; ++k) partial(std::size_t(i) * K + k) = local[k];
+            } else {
+              for (int k = 0; k < K; ++k) Kokkos::atomic_add(&partial(std::size_t(c) * K + k), local[k]);
+            }
           });
     } else {
       mesoflow::launch::parallel_for(
@@ -381,16 +407,36 @@ class MpcCollision {
           });
     }
 
-    mesoflow::launch::parallel_for(
-        "mesoflow::mpc::cell_values", Kokkos::RangePolicy<ExecSpace>(0, ncell), KOKKOS_LAMBDA(const std::size_t c) {
-          double s[K];
-          for (int k = 0; k < K; ++k) s[k] = 0.0;
-          for (int t = 0; t < chunks; ++t) {
-            const double* p = partial.data() + (std::size_t(t) * ncell + c) * K;
-            for (int k = 0; k < K; ++k) s[k] += p[k];
-          }
-          if (s[0] > 0.0) rule.cell_values(int(c), s, values.data() + c * M);
-        });
+    if (sorted) {
+      // The rows by cell, then by index (kernels/common/segment_order.hpp), then each cell's sums over
+      // its rows in that order.
+      const int used = n + nv;
+      row_order_->sort(used, cell_of);
+      const auto order = row_order_->view();
+      mesoflow::launch::parallel_for(
+          "mesoflow::mpc::cell_values_sorted", Kokkos::RangePolicy<ExecSpace>(0, ncell), KOKKOS_LAMBDA(const std::size_t c) {
+            double s[K];
+            for (int k = 0; k < K; ++k) s[k] = 0.0;
+            for (int q = order.begin(int(c)); q < order.end(int(c)); ++q) {
+              const int i = order.row(q);
+              if (i >= used) continue;  // a padding row dealt to this cell
+              const double* p = partial.data() + std::size_t(i) * K;
+              for (int k = 0; k < K; ++k) s[k] += p[k];
+            }
+            if (s[0] > 0.0) rule.cell_values(int(c), s, values.data() + c * M);
+          });
+    } else {
+      mesoflow::launch::parallel_for(
+          "mesoflow::mpc::cell_values", Kokkos::RangePolicy<ExecSpace>(0, ncell), KOKKOS_LAMBDA(const std::size_t c) {
+            double s[K];
+            for (int k = 0; k < K; ++k) s[k] = 0.0;
+            for (int t = 0; t < chunks; ++t) {
+              const double* p = partial.data() + (std::size_t(t) * ncell + c) * K;
+              for (int k = 0; k < K; ++k) s[k] += p[k];
+            }
+            if (s[0] > 0.0) rule.cell_values(int(c), s, values.data() + c * M);
+          });
+    }
 
     mesoflow::launch::parallel_for(
         "mesoflow::mpc::apply", Kokkos::RangePolicy<ExecSpace>(0, n + nv), KOKKOS_LAMBDA(const int i) {
@@ -426,7 +472,7 @@ class MpcCollision {
   CollisionGrid<D, Real> grid_;
   CollisionParameters<Real> params_;
   std::size_t particle_capacity_, virtual_capacity_;
-  bool atomic_sums_;
+  bool atomic_sums_, sorted_sums_;
   int num_chunks_;
   Kokkos::View<int*, ExecSpace> cell_of_;
   vector_view vran_;
@@ -436,6 +482,7 @@ class MpcCollision {
   using key_view = Kokkos::View<std::int64_t*, ExecSpace>;
   key_view sort_keys_;
   std::optional<Kokkos::BinSort<key_view, Kokkos::BinOp1D<key_view>>> sorter_;  // built at the first sort
+  std::optional<SegmentOrder<ExecSpace>> row_order_;  // sorted cell sums: the rows by cell
   vector_view x_sorted_, v_sorted_;
 };
 

@@ -64,6 +64,11 @@ struct CapsuleRunParameters {
   double dt = 0;                      // d/U (shear: 1/γ̇); 0: the scene's stability limit
   bool force_dt = false;
   long long check_every = 100;        // steps between NaN-watchdog checks
+  // The deterministic-sum mode (issue 26 item 4, docs/design.md): full neighbor lists, each row
+  // summing its own particle's forces, instead of a half list whose reactions are scattered
+  // (duplicated per thread on the host, float atomics on GPUs): the same bits on every backend and
+  // thread count, for twice the pair evaluations.
+  bool deterministic = false;
 };
 
 // The scene of a run at (Ca, η) as a string, kept in its result file: a sweep's --restart reuses
@@ -76,6 +81,7 @@ inline std::string scene_signature(const CapsuleRunParameters& par, double ca, d
     << ";strain=" << par.membrane_strain << ";delta=" << par.density_variation << ";tmax=" << par.t_max << ";sample=" << par.sample_every
     << ";stall=" << par.stall_window;
   if (par.dt > 0) s << ";dt=" << par.dt;
+  if (par.deterministic) s << ";lists=full";
   return s.str();
 }
 
@@ -106,6 +112,7 @@ inline CapsuleSceneParameters scene_parameters(const CapsuleRunParameters& par, 
   sp.level = par.level;
   sp.diagonals = par.diagonals == "both" ? msm::DiagonalBonds::both_per_quad : msm::DiagonalBonds::one_per_quad;
   sp.sph.wall_velocity = sph::parse_wall_velocity(par.walls);
+  sp.sph.list_kind = par.deterministic ? NeighborListKind::full : NeighborListKind::half;
   double strain_rate_length;  // μ U a/G_s (constriction) or μ γ̇ a/G_s (shear)
   if (par.mode == "shear") {
     phys.shear_rate = 2.0 / g.length[1];

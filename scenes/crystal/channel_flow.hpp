@@ -100,6 +100,10 @@ struct ChannelFlowParameters {
   Real wca_r0 = 1;                             // r0 of eq. (B.4)
   std::uint64_t seed = 1;
   int sort_interval = 25;  // steps between reorderings of the solvent by collision cell; 0: never
+  // The deterministic-sum mode (issue 26 item 4, docs/design.md): MPC cell sums and disc impulses
+  // summed over index-ordered segments (CellSums::sorted, DiscBounceBack's sorted impulses) instead
+  // of per-thread copies or float atomics: bitwise the same on every backend and thread count.
+  bool deterministic = false;
 };
 
 // The parameters at another precision.
@@ -124,6 +128,7 @@ ChannelFlowParameters<To> converted(const ChannelFlowParameters<From>& p) {
   q.wca_r0 = To(p.wca_r0);
   q.seed = p.seed;
   q.sort_interval = p.sort_interval;
+  q.deterministic = p.deterministic;
   return q;
 }
 
@@ -155,7 +160,7 @@ class ChannelFlow {
                    virtual_capacity(p, disc_centres.size())),
         discs_(disc_centres.size(), p.disc_radius, disc_mass(p), box_of(collision_.grid()),
                Real(2) * p.disc_radius + WcaPotential<Real>(p.wca_epsilon, p.wca_r0).cutoff),
-        disc_bounce_back_(discs_, p.mass),
+        disc_bounce_back_(discs_, p.mass, p.deterministic),
         wca_(p.wca_epsilon, p.wca_r0),
         g_{p.body_acceleration, Real(0)} {
     check_disc_centres(disc_centres);
@@ -315,6 +320,7 @@ class ChannelFlow {
     c.mass = p.mass;
     c.srd_angle = p.srd_angle;
     c.seed = p.seed;
+    c.cell_sums = p.deterministic ? CellSums::sorted : CellSums::automatic;
     return c;
   }
 
@@ -438,7 +444,7 @@ class ChannelFlow {
     if (failures > 0)
       throw std::runtime_error("channel flow: " + std::to_string(failures) +
                                " solvent particles found no place outside the discs");
-    fill_maxwell_boltzmann<2, Real, ExecSpace>(v_, p_.kT, p_.mass, p_.seed, 1);
+    fill_maxwell_boltzmann<2, Real, ExecSpace>(v_, p_.kT, p_.mass, p_.seed, 1, p_.deterministic);
   }
 
  private:

@@ -214,6 +214,117 @@ TYPED_TEST(RigidDiscsTest, NoParticleEndsInsideAndImpulsesBalance) {
   EXPECT_NEAR(dp[1] + j_sum[1], 0.0, tol);
 }
 
+// The deterministic-sum mode (issue 26 item 4): the same particle updates as the ScatterView mode,
+// bit for bit, and each disc's linear impulse is exactly −Σ m Δv of the particles that hit it summed
+// in index order (a host reference; the ScatterView sums agree only to round-off on several threads).
+TYPED_TEST(RigidDiscsTest, DeterministicImpulsesAreTheIndexOrderSums) {
+  using Real = typename TypeParam::real;
+  using Exec = typename TypeParam::exec;
+  const double L = 30, W = 24, R = 3, m = 0.7, h = 0.2;
+  const std::vector<std::array<Real, 2>> centres = {
+      {Real(5), Real(5)}, {Real(15), Real(6)}, {Real(28.5), Real(12)}, {Real(10), Real(22.5)}, {Real(21), Real(18)}};
+  RigidDiscs<Real, Exec> discs(centres.size(), Real(R), Real(100), periodic_box<Real>(L, W), Real(7));
+  discs.set_positions(centres);
+  set_motion(discs, {{0.5, -0.3, 0.4}, {-0.2, 0.1, -1.0}, {0.0, 0.8, 0.2}, {0.3, 0.3, 0.0}, {-0.6, 0.0, 0.7}});
+  discs.move(Real(h));
+  const int n = 20000;
+  std::mt19937 gen(5);
+  std::uniform_real_distribution<double> ux(0, L), uy(0, W);
+  std::normal_distribution<double> normal(0, 1);
+  std::vector<std::array<double, 2>> xs(n), vs(n);
+  for (int i = 0; i < n; ++i) {
+    xs[i] = {ux(gen), uy(gen)};
+    vs[i] = {normal(gen), normal(gen)};
+  }
+  const auto grid = mpc::make_collision_grid<2, Real>(Real(1), {Real(0), Real(0)}, {Real(L), Real(W)}, {1, 1});
+  auto run = [&](bool deterministic, vector_view<Real, Exec>& x, vector_view<Real, Exec>& v) {
+    x = make_view<Real, Exec>(xs);
+    v = make_view<Real, Exec>(vs);
+    mpc::stream(x, v, Real(h), Kokkos::Array<Real, 2>{Real(0), Real(0)}, grid);
+    discs.clear_accumulators();
+    DiscBounceBack<Real, Exec> bounce(discs, Real(m), deterministic);
+    EXPECT_EQ(bounce.deterministic(), deterministic);
+    bounce.apply(x, v, Real(h), discs);
+    bounce.apply(x, v, Real(0), discs);  // again, nothing inside: the sorter reused, no new impulse
+    return host_copy(discs.impulse);
+  };
+  vector_view<Real, Exec> xa, va, xs_, vs_;
+  const auto scattered = run(false, xa, va);
+  const auto sorted = run(true, xs_, vs_);
+  auto xah = host_copy(xa), vah = host_copy(va), xsh = host_copy(xs_), vsh = host_copy(vs_);
+  auto X = host_copy(discs.x);
+  int differ = 0, hits = 0;
+  std::vector<std::array<double, 2>> reference(centres.size(), {0.0, 0.0});
+  for (int i = 0; i < n; ++i) {
+    for (int d = 0; d < 2; ++d) differ += xah(i, d) != xsh(i, d) || vah(i, d) != vsh(i, d);
+    const double dvx = double(vsh(i, 0)) - double(Real(vs[i][0])), dvy = double(vsh(i, 1)) - double(Real(vs[i][1]));
+    if (dvx == 0 && dvy == 0) continue;
+    ++hits;
+    std::size_t k_near = 0;  // the disc it bounced on: the one whose surface it sits on
+    double best = 1e300;
+    for (std::size_t k = 0; k < centres.size(); ++k) {
+      double dx = double(xsh(i, 0)) - double(X(k, 0)), dy = double(xsh(i, 1)) - double(X(k, 1));
+      dx -= L * std::round(dx / L);
+      dy -= W * std::round(dy / W);
+      if (std::hypot(dx, dy) < best) best = std::hypot(dx, dy), k_near = k;
+    }
+    reference[k_near][0] -= double(Real(m)) * dvx;
+    reference[k_near][1] -= double(Real(m)) * dvy;
+  }
+  EXPECT_EQ(differ, 0);
+  EXPECT_GT(hits, 100);
+  for (std::size_t k = 0; k < centres.size(); ++k)
+    for (int d = 0; d < 2; ++d) {
+      EXPECT_EQ(sorted(k, d), reference[k][d]) << "disc " << k;
+      EXPECT_NEAR(sorted(k, d), scattered(k, d), 1e-12 * hits);
+    }
+}
+
+#if defined(KOKKOS_ENABLE_SERIAL) && defined(KOKKOS_ENABLE_OPENMP)
+// The crystal scene in the deterministic-sum mode (sorted cell sums and disc impulses, issue 26
+// item 4): 200 steps with walls and four moving discs on OpenMP (2 threads) equal those on Serial
+// bit for bit — solvent positions and velocities, disc velocities and spins (the initial velocities'
+// mean is summed in index order in this mode too). Without the mode the same two runs differ (the chunked cell sums
+// and duplicated impulses follow the thread count), so the comparison can fail.
+TEST(DeterministicSums, ChannelFlowIsTheSameOnSerialAndOpenMP) {
+  ChannelFlowParameters<double> p;
+  p.length = 30;
+  p.width = 20;
+  p.density = 8;
+  p.h = 0.1;
+  p.body_acceleration = 0.01;
+  p.disc_radius = 3;
+  p.seed = 21;
+  p.sort_interval = 25;
+  const std::vector<std::array<double, 2>> centres = {{5, 6}, {13, 10}, {21, 14}, {27, 8}};
+  auto run = [&](auto exec_tag, bool deterministic) {
+    using Exec = decltype(exec_tag);
+    p.deterministic = deterministic;
+    ChannelFlow<double, Exec> flow(p, centres);
+    for (int s = 0; s < 200; ++s) flow.step();
+    std::vector<double> state;
+    const auto x = host_copy(flow.positions());
+    for (std::size_t k = 0; k < x.extent(0); ++k) state.insert(state.end(), {x(k, 0), x(k, 1)});
+    const auto u = host_copy(flow.discs().u);
+    for (std::size_t k = 0; k < u.extent(0); ++k) state.insert(state.end(), {u(k, 0), u(k, 1)});
+    const auto v = host_copy(flow.velocities());
+    for (std::size_t k = 0; k < v.extent(0); ++k) state.insert(state.end(), {v(k, 0), v(k, 1)});
+    const auto w = host_copy(flow.discs().omega);
+    for (std::size_t k = 0; k < w.extent(0); ++k) state.push_back(w(k));
+    return state;  // (diagnostic reductions such as total_momentum() still sum in thread order)
+  };
+  ASSERT_GE(Kokkos::OpenMP().concurrency(), 2) << "needs two threads to mean anything";
+  const auto a = run(Kokkos::OpenMP(), true), b = run(Kokkos::Serial(), true);
+  ASSERT_EQ(a.size(), b.size());
+  std::size_t first = a.size();
+  for (std::size_t k = 0; k < a.size() && first == a.size(); ++k)
+    if (a[k] != b[k]) first = k;
+  EXPECT_EQ(first, a.size()) << "first difference at entry " << first << " of " << a.size() << ": "
+                             << (first < a.size() ? a[first] - b[first] : 0.0);
+  EXPECT_NE(run(Kokkos::OpenMP(), false), run(Kokkos::Serial(), false));
+}
+#endif
+
 // Virtual particles inside the discs: all in the layer R − √2 a < |r − X| < R, the same count for
 // every disc, ⌊n A/a² + u⌋ with mean n A/a²; velocities U + Ω × r plus Maxwell–Boltzmann noise.
 TYPED_TEST(RigidDiscsTest, VirtualDiscParticlesFillTheSurfaceLayer) {
