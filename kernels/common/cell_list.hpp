@@ -113,15 +113,7 @@ class CellList {
       sorter_rows_ = n;
       sorter_cells_ = ncell;
     }
-    // create_permute_vector() adds to the bin counts its last binning left (only BinSort's
-    // constructor zeroes them): zero them through a writable alias first.
-    const auto bin_count = sorter_->get_bin_count();
-    using count_type = std::remove_const_t<typename decltype(bin_count)::value_type>;
-    const Kokkos::View<count_type*, ExecSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>> counts(
-        const_cast<count_type*>(bin_count.data()), bin_count.extent(0));
-    mesoflow::launch::parallel_for(
-        "mesoflow::cell_list::zero_bins", Kokkos::RangePolicy<ExecSpace>(0, int(counts.extent(0))),
-        KOKKOS_LAMBDA(int b) { counts(b) = 0; });
+    zero_bin_counts<ExecSpace>(*sorter_);  // create_permute_vector() adds to the last counts
     sorter_->create_permute_vector();
     const auto order = sorter_->get_permute_vector();
     const auto bin_offsets = sorter_->get_bin_offsets();

@@ -50,6 +50,20 @@ struct ExactBinOp {
   }
 };
 
+// Zeroes the bin counts of `sorter` before create_permute_vector(), which adds to the counts its
+// last binning left (Kokkos 3.4 and 4.x zero them only in the constructor): through a writable alias
+// of get_bin_count() (the same allocation). Every reused BinSort in mesoflow calls this first.
+template <class ExecSpace, class Sorter>
+void zero_bin_counts(const Sorter& sorter) {
+  const auto bin_count = sorter.get_bin_count();
+  using count_type = std::remove_const_t<typename decltype(bin_count)::value_type>;
+  const Kokkos::View<count_type*, ExecSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>> counts(
+      const_cast<count_type*>(bin_count.data()), bin_count.extent(0));
+  mesoflow::launch::parallel_for(
+      "mesoflow::binsort::zero_bins", Kokkos::RangePolicy<ExecSpace>(0, int(counts.extent(0))),
+      KOKKOS_LAMBDA(const int b) { counts(b) = 0; });
+}
+
 // The device side of a SegmentOrder (raw pointers, small): the rows of segment s are
 // row(begin(s)) … row(end(s) − 1), in index order, with the skipped rows among them.
 template <class SizeType>
@@ -106,15 +120,7 @@ class SegmentOrder {
           if (final) start(s) = partial;
           if (s < segments) partial += count(s);
         });
-    // BinSort's create_permute_vector() adds to the bin counts of its last use (only its constructor
-    // zeroes them): zero them through a writable alias first.
-    const auto bin_count = sorter_->get_bin_count();
-    using count_type = std::remove_const_t<typename decltype(bin_count)::value_type>;
-    const Kokkos::View<count_type*, ExecSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>> counts(
-        const_cast<count_type*>(bin_count.data()), bin_count.extent(0));
-    mesoflow::launch::parallel_for(
-        "mesoflow::segment_order::zero_bins", Kokkos::RangePolicy<ExecSpace>(0, int(counts.extent(0))),
-        KOKKOS_LAMBDA(const int b) { counts(b) = 0; });
+    zero_bin_counts<ExecSpace>(*sorter_);
     sorter_->create_permute_vector();
   }
 

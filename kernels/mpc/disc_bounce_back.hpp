@@ -77,6 +77,40 @@ KOKKOS_INLINE_FUNCTION Vec<2, Real> bounce_on_disc(Vec<2, Real>& r, Vec<2, Real>
   return rc;
 }
 
+// Particle i of (x, v) after a streaming step h: if it is inside a disc (candidates from the disc
+// bins), bounces it (bounce_on_disc), stores its new x and v and returns the disc with the particle's
+// Δp = m (v' − v) and angular Δp (r_c × Δp) in dp[3]; −1 (and x, v untouched) otherwise. The one
+// per-particle body of both DiscBounceBack paths.
+template <class Real, class ExecSpace, class VectorView, class DiscVectors, class DiscScalars>
+KOKKOS_INLINE_FUNCTION int bounce_particle(int i, const VectorView& x, const VectorView& v, Real h,
+                                           const DiscBinsView<Real, ExecSpace>& bins, const DiscVectors& X,
+                                           const DiscVectors& U, const DiscScalars& W, Real radius, Real m,
+                                           double (&dp)[3]) {
+  const Vec<2, Real> xi = Vec<2, Real>::load(x, i);
+  int hit = -1;
+  Vec<2, Real> r;
+  bins.for_each_near(xi, [&](int k) {
+    if (hit >= 0) return;
+    const Vec<2, Real> dr = bins.separation(xi, Vec<2, Real>::load(X, k));
+    if (norm2(dr) < radius * radius) {
+      hit = k;
+      r = dr;
+    }
+  });
+  if (hit < 0) return -1;
+  const Vec<2, Real> v_old = Vec<2, Real>::load(v, i);
+  Vec<2, Real> vi = v_old;
+  const Vec<2, Real> rc = bounce_on_disc(r, vi, h, radius, Vec<2, Real>::load(U, hit), W(hit));
+  Vec<2, Real> xn = Vec<2, Real>::load(X, hit) + r;
+  bins.box.wrap(xn);
+  xn.store(x, i);
+  vi.store(v, i);
+  dp[0] = double(m) * (double(vi[0]) - double(v_old[0]));
+  dp[1] = double(m) * (double(vi[1]) - double(v_old[1]));
+  dp[2] = double(rc[0]) * dp[1] - double(rc[1]) * dp[0];
+  return hit;
+}
+
 template <class Real, class ExecSpace>
 class DiscBounceBack {
  public:
@@ -113,31 +147,11 @@ class DiscBounceBack {
     const Real radius = discs.radius(), m = mass_;
     mesoflow::launch::parallel_for(
         "mesoflow::mpc::disc_bounce_back", Kokkos::RangePolicy<ExecSpace>(0, x.extent(0)), KOKKOS_LAMBDA(int i) {
-          const Vec<2, Real> xi = Vec<2, Real>::load(x, i);
-          int hit = -1;
-          Vec<2, Real> r;
-          bins.for_each_near(xi, [&](int k) {
-            if (hit >= 0) return;
-            const Vec<2, Real> dr = bins.separation(xi, Vec<2, Real>::load(X, k));
-            if (norm2(dr) < radius * radius) {
-              hit = k;
-              r = dr;
-            }
-          });
+          double dp[3];
+          const int hit = bounce_particle<Real, ExecSpace>(i, x, v, h, bins, X, U, W, radius, m, dp);
           if (hit < 0) return;
-          const Vec<2, Real> v_old = Vec<2, Real>::load(v, i);
-          Vec<2, Real> vi = v_old;
-          const Vec<2, Real> rc = bounce_on_disc(r, vi, h, radius, Vec<2, Real>::load(U, hit), W(hit));
-          Vec<2, Real> xn = Vec<2, Real>::load(X, hit) + r;
-          bins.box.wrap(xn);
-          xn.store(x, i);
-          vi.store(v, i);
-          const double dpx = double(m) * (double(vi[0]) - double(v_old[0]));
-          const double dpy = double(m) * (double(vi[1]) - double(v_old[1]));
           auto access = scatter.access();
-          access(hit, 0) -= dpx;
-          access(hit, 1) -= dpy;
-          access(hit, 2) -= double(rc[0]) * dpy - double(rc[1]) * dpx;
+          for (int c = 0; c < 3; ++c) access(hit, c) -= dp[c];
         });
     auto impulse = discs.impulse;
     Kokkos::Experimental::contribute(impulse, scatter_);
@@ -163,31 +177,11 @@ class DiscBounceBack {
     const Real radius = discs.radius(), m = mass_;
     mesoflow::launch::parallel_for(
         "mesoflow::mpc::disc_bounce_back_store", Kokkos::RangePolicy<ExecSpace>(0, n), KOKKOS_LAMBDA(int i) {
-          const Vec<2, Real> xi = Vec<2, Real>::load(x, i);
-          int hit = -1;
-          Vec<2, Real> r;
-          bins.for_each_near(xi, [&](int k) {
-            if (hit >= 0) return;
-            const Vec<2, Real> dr = bins.separation(xi, Vec<2, Real>::load(X, k));
-            if (norm2(dr) < radius * radius) {
-              hit = k;
-              r = dr;
-            }
-          });
+          double d[3];
+          const int hit = bounce_particle<Real, ExecSpace>(i, x, v, h, bins, X, U, W, radius, m, d);
           hit_of(i) = hit;
-          if (hit < 0) return;
-          const Vec<2, Real> v_old = Vec<2, Real>::load(v, i);
-          Vec<2, Real> vi = v_old;
-          const Vec<2, Real> rc = bounce_on_disc(r, vi, h, radius, Vec<2, Real>::load(U, hit), W(hit));
-          Vec<2, Real> xn = Vec<2, Real>::load(X, hit) + r;
-          bins.box.wrap(xn);
-          xn.store(x, i);
-          vi.store(v, i);
-          const double dpx = double(m) * (double(vi[0]) - double(v_old[0]));
-          const double dpy = double(m) * (double(vi[1]) - double(v_old[1]));
-          dp(i, 0) = dpx;
-          dp(i, 1) = dpy;
-          dp(i, 2) = double(rc[0]) * dpy - double(rc[1]) * dpx;
+          if (hit >= 0)
+            for (int c = 0; c < 3; ++c) dp(i, c) = d[c];
         });
     order_->sort(n, hit_of);
     const auto order = order_->view();

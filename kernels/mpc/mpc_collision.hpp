@@ -208,16 +208,7 @@ class MpcCollision {
     mesoflow::launch::parallel_for(
         "mesoflow::mpc::sort::keys", Kokkos::RangePolicy<ExecSpace>(0, n),
         KOKKOS_LAMBDA(const int i) { keys(i) = std::int64_t(cell_of(i)) * stride + i; });
-    // create_permute_vector() counts into the bin counts its last binning left (Kokkos 3.4 and 4.x:
-    // only the constructor zeroes them), so a sorter used again would double its counts. Zero them
-    // through a writable alias of get_bin_count() (the same allocation) before each use.
-    const auto bin_count = sorter_->get_bin_count();
-    using count_type = std::remove_const_t<typename decltype(bin_count)::value_type>;
-    const Kokkos::View<count_type*, ExecSpace, Kokkos::MemoryTraits<Kokkos::Unmanaged>> counts(
-        const_cast<count_type*>(bin_count.data()), bin_count.extent(0));
-    mesoflow::launch::parallel_for(
-        "mesoflow::mpc::sort::zero_bins", Kokkos::RangePolicy<ExecSpace>(0, int(counts.extent(0))),
-        KOKKOS_LAMBDA(const int b) { counts(b) = 0; });
+    zero_bin_counts<ExecSpace>(*sorter_);  // create_permute_vector() adds to the last counts
     sorter_->create_permute_vector();
     const auto order = sorter_->get_permute_vector();
     const auto xs = x_sorted_, vs = v_sorted_;
