@@ -51,9 +51,10 @@
 // the first position where none of its vertices is within δ_mn of another polygon's vertex (relative
 // tolerance 10⁻⁹, as HopperScene) or within δ_m/2 of a wall, no edge crosses another polygon's edge
 // and neither centroid lies inside the other polygon (smooth model: no vertex within δ_mn of another
-// polygon's edge either). Every vertex takes the anchor's centroid velocity. N is conserved. A
-// blown-up state (a non-finite vertex, or one a box length outside the box: a forced Δt above the
-// limit) is not recycled but left for the NaN watchdog (watched(), scenes/common/nan_watchdog.hpp).
+// polygon's edge either). Every vertex takes the mean centroid velocity of the anchor and its bulk
+// neighbours within 2σ_avg (issue 27). N is conserved. A blown-up state (a non-finite vertex, or
+// one a box length outside the box: a forced Δt above the limit) is not recycled but left for the
+// NaN watchdog (watched(), scenes/common/nan_watchdog.hpp).
 //
 // relax(): the polygons start as regular N_v-gons of random orientation, placed by random sequential
 // adsorption (circumcircles disjoint, large polygons first) at packing fraction 0.5 of a_m,0 in the
@@ -660,13 +661,27 @@ class DpHopperScene {
         for (int d = 0; d < 2; ++d) shape[k][d] = c[d] + double(x_host_(begin + k, d)) - bodies[i].com[d];
       const double overlap = overlap_at(i, shape, c, bodies[i].radius, bodies);
       if (overlap > contact_tolerance) return std::nullopt;
+      // The velocity: the mean of the anchor's and its bulk neighbours' (centroids within 2σ_avg),
+      // as in the SP scene (hopper_scene.hpp, issue 27): the local flow, not one polygon's agitation.
+      V mean{{0, 0}};
+      int count = 0;
+      for (int k = 0; k < n; ++k) {
+        if (k == i || outside_host_(k) != 0) continue;
+        const double dx = bodies[k].com[0] - bodies[j].com[0], dy = bodies[k].com[1] - bodies[j].com[1];
+        if (dx * dx + dy * dy >= 4.0) continue;
+        mean[0] += bodies[k].velocity[0];
+        mean[1] += bodies[k].velocity[1];
+        ++count;
+      }
+      mean[0] /= count;
+      mean[1] /= count;
       for (int k = 0; k < nv(); ++k)
         for (int d = 0; d < 2; ++d) {
           x_host_(begin + k, d) = Real(shape[k][d]);
-          v_host_(begin + k, d) = Real(bodies[j].velocity[d]);
+          v_host_(begin + k, d) = Real(mean[d]);
         }
       bodies[i].com = c;
-      bodies[i].velocity = bodies[j].velocity;
+      bodies[i].velocity = mean;
       outside_host_(i) = 0;
       return overlap;
     };

@@ -25,6 +25,7 @@
 #include "kernels/common/kernel_launch.hpp"
 #include "scenes/common/nan_watchdog.hpp"
 #include "scenes/common/term_list.hpp"
+#include "kernels/sp/contact_number.hpp"
 #include "scenes/hopper/recycling.hpp"
 #include "scenes/common/time_step_limit.hpp"
 #include "kernels/common/box.hpp"
@@ -145,6 +146,8 @@ class HopperScene {
     v_host_ = Kokkos::create_mirror_view(p_.v);
     type_host_ = Kokkos::create_mirror_view(p_.type);
     outside_host_ = Kokkos::create_mirror_view(outside_);
+    contact_number_ = Kokkos::View<int*, ExecSpace>("mesoflow::hopper::contact_number", std::size_t(par.particles));
+    contact_number_host_ = Kokkos::create_mirror_view(contact_number_);
     declare_terms();
   }
   // The term list's launches hold `this`: a scene stays where it was built.
@@ -217,6 +220,15 @@ class HopperScene {
     for (std::size_t i = 0; i < v.size(); ++i)
       for (int d = 0; d < D; ++d) v_host_(i, d) = Real(v[i][d]);
     Kokkos::deep_copy(p_.v, v_host_);
+  }
+
+  // Positions from the host (tests). The neighbor list and wall candidates follow at the next step
+  // (the skin criterion sees the move); nothing is reordered before then.
+  void set_positions(const std::vector<Vec<D, double>>& x) {
+    if (x.size() != p_.size()) throw std::invalid_argument("hopper scene: positions for the wrong particle count");
+    for (std::size_t i = 0; i < x.size(); ++i)
+      for (int d = 0; d < D; ++d) x_host_(i, d) = Real(x[i][d]);
+    Kokkos::deep_copy(p_.x, x_host_);
   }
 
   // The NaN watchdog's view of the scene (scenes/common/nan_watchdog.hpp). The state includes what
@@ -434,32 +446,59 @@ class HopperScene {
 
  private:
   // Host re-insertion of every particle more than recycle_depth below the orifice (recycling.hpp).
+  // Anchors are bulk particles (inside the hopper, not awaiting re-insertion), those held in the
+  // packing first: touching at least two particles or walls (kernels/sp/contact_number.hpp); the
+  // re-inserted particle takes the mean velocity of the anchor's neighbourhood. Before issue 27 it
+  // took the velocity of the highest bulk particle itself, which could be flying above the pile: at
+  // weak dissipation (μ/μ0 = 1, E_sp = 10⁴, w = 10) every re-insertion copied one particle's
+  // agitation, the top of the pile heated up without bound and the flow starved (docs/hopper.md).
+  // Anchors held in the packing alone slowed the runaway; the mean velocity stops it.
   void recycle() {
+    if (list_.num_builds() == 0) maintain_neighbors();
+    sp::count_contacts(contacts_, walls_, p_, list_, box_, contact_number_);
+    Kokkos::deep_copy(contact_number_host_, contact_number_);
     Kokkos::deep_copy(x_host_, p_.x);
     Kokkos::deep_copy(v_host_, p_.v);
     Kokkos::deep_copy(outside_host_, outside_);
     Kokkos::deep_copy(type_host_, p_.type);
     const int n = int(p_.size());
     std::vector<int> below;
+    std::vector<char> moved(std::size_t(n), 0);  // re-inserted now: their contact numbers are from below
     for (int i = 0; i < n; ++i)
-      if (double(x_host_(i, D - 1)) < -recycle_depth) below.push_back(i);
+      if (double(x_host_(i, D - 1)) < -recycle_depth) {
+        below.push_back(i);
+        moved[std::size_t(i)] = 1;
+      }
     const auto anchor = [&](int k) {
-      Recycler::Anchor a{outside_host_(k) == 0 && !(double(x_host_(k, D - 1)) < -recycle_depth), {0, 0},
-                         double(x_host_(k, D - 1))};
+      Recycler::Anchor a{outside_host_(k) == 0 && !(double(x_host_(k, D - 1)) < -recycle_depth),
+                         {0, 0},
+                         double(x_host_(k, D - 1)),
+                         !moved[std::size_t(k)] && contact_number_host_(k) >= min_anchor_contacts};
       for (int d = 0; d < D - 1; ++d) a.lateral[d] = double(x_host_(k, d));
       return a;
     };
-    // In contact with anchor j (centre distance σ_mn), taking its velocity.
+    // In contact with anchor j (centre distance σ_mn), taking its neighbourhood's mean velocity.
     const auto try_place = [&](int i, int j, const Vec<D, double>& dir) -> std::optional<double> {
       const double s = 0.5 * (particle_diameter(type_host_(i)) + particle_diameter(type_host_(j)));
       Vec<D, double> pos;
       for (int d = 0; d < D; ++d) pos[d] = double(x_host_(j, d)) + s * dir[d];
       const double overlap = overlap_at(i, pos);
       if (overlap > contact_tolerance) return std::nullopt;
-      for (int d = 0; d < D; ++d) {
-        x_host_(i, d) = Real(pos[d]);
-        v_host_(i, d) = v_host_(j, d);
+      for (int d = 0; d < D; ++d) x_host_(i, d) = Real(pos[d]);
+      // The velocity: the mean of the anchor's and its bulk neighbours' within 2σ_avg (hopper-flows
+      // §2.4: "the same speed as neighboring particles"), the local flow without the anchor's own
+      // agitation (see above).
+      Vec<D, double> mean = Vec<D, double>::zero();
+      int count = 0;
+      for (int k = 0; k < n; ++k) {
+        if (k == i || outside_host_(k) != 0) continue;
+        double r2 = 0;
+        for (int d = 0; d < D; ++d) r2 += std::pow(double(x_host_(k, d)) - double(x_host_(j, d)), 2);
+        if (r2 >= 4.0) continue;
+        for (int d = 0; d < D; ++d) mean[d] += double(v_host_(k, d));
+        ++count;
       }
+      for (int d = 0; d < D; ++d) v_host_(i, d) = Real(mean[d] / count);
       outside_host_(i) = 0;
       return overlap;
     };
@@ -485,6 +524,8 @@ class HopperScene {
   typename particles_type::vector_view::HostMirror x_host_, v_host_;
   typename particles_type::int_view::HostMirror type_host_;
   typename Kokkos::View<int*, ExecSpace>::HostMirror outside_host_;
+  Kokkos::View<int*, ExecSpace> contact_number_;  // particles and walls touching each particle, at recycling
+  typename Kokkos::View<int*, ExecSpace>::HostMirror contact_number_host_;
   Recycler recycler_;  // the continuous flow's counters and RNG (recycling.hpp)
   scene::TermList<const typename particles_type::vector_view&> terms_;
   bool gravity_on_ = true;

@@ -7,13 +7,18 @@
 // `recycle_depth` below it (count_crossings). Only when that count is nonzero does the scene copy
 // its state to the host and call Recycler::reinsert with the bodies to re-insert. For each, in
 // index order: a lateral target is drawn uniformly in the hopper's cross-section (host RNG keyed on
-// the seed); the bulk bodies (inside the hopper, not awaiting re-insertion) are ordered as anchors,
-// those within σ_avg of the target laterally first, each group highest first; the body is put in
-// contact with the first anchor in the first direction — straight up, then tilting away by 15°
-// steps (3D: 8 azimuths per tilt) — where the scene's placement test finds no overlap beyond
-// `contact_tolerance`. What "in contact" and "overlap" mean is the scene's (a disk or sphere at
-// σ_mn from the anchor's centre; a polygon translated rigidly to R_m + R_n + δ_mn from the anchor's
-// centroid): the scene passes it as try_place. The body count never changes.
+// the seed); the bulk bodies (inside the hopper, not awaiting re-insertion) are ordered as anchors:
+// those held in the packing first (the SP scene: touching at least min_anchor_contacts particles or
+// walls, so never a particle in free flight above the pile; the others only while nothing is held,
+// as in the free fall at the start), within that those within σ_avg of the target laterally first,
+// each group highest first; the body is put in contact with the first anchor in the first
+// direction — straight up, then tilting away by 15° steps (3D: 8 azimuths per tilt) — where the
+// scene's placement test finds no overlap beyond `contact_tolerance`, and takes the mean velocity of
+// the anchor and its bulk neighbours within 2σ_avg (not the anchor's own: copying one body's
+// agitation at every re-insertion heated a weakly damped pile without bound, issue 27). What "in
+// contact" and "overlap" mean is the scene's (a disk or sphere at σ_mn from the anchor's centre; a
+// polygon translated rigidly to R_m + R_n + δ_mn from the anchor's centroid): the scene passes it as
+// try_place. The body count never changes.
 #pragma once
 
 #include "kernels/common/reductions.hpp"
@@ -36,6 +41,7 @@ namespace mesoflow::hopper {
 constexpr double recycle_depth = 2.0;       // σ_avg below the orifice before re-insertion (§2.4)
 constexpr double contact_tolerance = 1e-9;  // largest relative overlap of a re-inserted body
 constexpr int detect_every = 10;            // steps between crossing/recycling checks
+constexpr int min_anchor_contacts = 2;      // SP: an anchor touches at least this many particles or walls
 
 // One parallel_reduce over n bodies: body.height(i) (Real) below 0 for the first time marks
 // outside(i) and adds body.measure(i) (double) to sums[0] and 1 to sums[1]; sums[2] counts the
@@ -95,6 +101,7 @@ class Recycler {
     bool bulk;
     double lateral[2];
     double height;
+    bool held = true;  // part of the packing (SP: touching ≥ min_anchor_contacts surfaces); held anchors go first
   };
 
   explicit Recycler(unsigned long long seed) { s_.rng.seed(seed ^ 0x9e3779b97f4a7c15ULL); }
@@ -131,7 +138,7 @@ class Recycler {
         if (!a.bulk) continue;
         double lateral2 = 0;
         for (int d = 0; d < D - 1; ++d) lateral2 += std::pow(a.lateral[d] - target[d], 2);
-        order.emplace_back((lateral2 < 1 ? 1e9 : 0) + a.height, k);
+        order.emplace_back((a.held ? 2e9 : 0) + (lateral2 < 1 ? 1e9 : 0) + a.height, k);
       }
       std::sort(order.begin(), order.end(), [](const auto& a, const auto& b) {
         return a.first != b.first ? a.first > b.first : a.second < b.second;
