@@ -1,13 +1,22 @@
 #!/usr/bin/env python3
 """summarize_gpu_session.py — tables from one scripts/gpu_session run (docs/portability.md).
 
-    scripts/summarize_gpu_session.py SESSION_DIR OUT_DIR
+    scripts/summarize_gpu_session.py SESSION_DIR OUT_DIR [TEST_DIR ...]
+
+TEST_DIR: further `gpu_run_tests run` OUT_DIRs of the same lease (programs rerun after they were not
+run or were cut at their limit); a later run's row replaces an earlier one in tests.csv.
 
 SESSION_DIR is the unpacked OUT_DIR of scripts/gpu_session. Writes to OUT_DIR:
-  tests.csv        every test program: exit status, tests passed/failed, seconds (as gpu_run_tests wrote)
+  tests.csv        every test program: exit status, tests passed/failed, seconds (as gpu_run_tests wrote),
+                   which run, and for a program cut at its limit the test it was in
   failures.txt     the failing tests, one per line, from the GoogleTest logs
   bench.csv        every benchmark: items/s, and for the whole-step ones the compulsory memory traffic
                    per item and that traffic as a fraction of the triad's bandwidth in the same run
+  sanitizer.csv    compute-sanitizer memcheck per program and layout (as gpu_session wrote it)
+  obstacles.{csv,json,replicas.csv}, obstacles_log.txt   the obstacle ensemble on the GPU, and
+  obstacles_vs_cpu.json  its λ against the CPU's (CPU_REFERENCE, default the Fig. 13(b) verification
+                   ensemble): the ratio λ_GPU/λ_CPU with a 95% interval from the clog counts
+                   (the standard error of ln λ̂ is 1/√n_clogged for each; independent samples)
 and prints a summary. The compulsory traffic is a lower bound on what a step must move: each state
 array of a particle read once and written once (2D/3D, float/double), nothing for neighbors, cells
 or scratch; so the fraction is a lower bound of the fraction of bandwidth a kernel uses.
@@ -15,10 +24,16 @@ or scratch; so the fraction is a lower bound of the fraction of bandwidth a kern
 import csv
 import io
 import json
+import math
 import os
 import re
+import shutil
 import sys
 import tarfile
+
+CPU_REFERENCE = os.environ.get("CPU_REFERENCE", os.path.join(
+    os.path.dirname(os.path.abspath(__file__)), "..", "docs", "results", "capillary", "calibration", "runs",
+    "verify_phi0.0248_L100.csv"))
 
 # Whole-step benchmarks: name prefix -> (state doubles read, written) per item, dimension-aware.
 # MPC: x, v read and written (streaming and collision). SPH: x, v, ρ read and written, mass read.
@@ -40,37 +55,66 @@ def word_bytes(name):
     return 4 if "float" in name else 8
 
 
+def read_logs(test_dir):
+    """program -> its GoogleTest log text, from a gpu_run_tests OUT_DIR's logs.tar.gz."""
+    logs = {}
+    path = os.path.join(test_dir, "logs.tar.gz")
+    if os.path.exists(path):
+        with tarfile.open(path) as t:
+            for m in t.getmembers():
+                if m.name.endswith(".log"):
+                    logs[os.path.basename(m.name)[:-4]] = t.extractfile(m).read().decode("utf-8", "replace")
+    return logs
+
+
 def main(argv):
-    if len(argv) != 3:
+    if len(argv) < 3:
         print(__doc__)
         return 2
     session, out = argv[1], argv[2]
     os.makedirs(out, exist_ok=True)
-    rows = list(csv.DictReader(open(os.path.join(session, "tests", "summary.csv"))))
+    # The session's tests, then each further gpu_run_tests OUT_DIR (reruns of programs that were not
+    # run or were cut at their time limit): a later run's row replaces an earlier one.
+    test_dirs = [os.path.join(session, "tests")] + argv[3:]
+    merged, logs = {}, {}
+    for k, d in enumerate(test_dirs):
+        run_logs = read_logs(d)
+        for r in csv.DictReader(open(os.path.join(d, "summary.csv"))):
+            if r["exit_status"] == "not run" and r["program"] in merged:
+                continue
+            r["run"] = str(k + 1)
+            text = run_logs.get(r["program"], "")
+            running = ""
+            if r["exit_status"] == "124":  # cut at the time limit: the test it was in
+                started = re.findall(r"^\[ RUN      \] (\S+)", text, re.M)
+                finished = set(re.findall(r"^\[       OK \] (\S+)", text, re.M)) | set(
+                    re.findall(r"^\[  FAILED  \] (\S+)", text, re.M))
+                running = next((t for t in reversed(started) if t not in finished), "")
+                r["passed"] = str(len(re.findall(r"^\[       OK \] ", text, re.M)))  # before the cut
+            r["running_at_limit"] = running
+            merged[r["program"]] = r
+            logs[r["program"]] = text
+    rows = [merged[p] for p in sorted(merged)]
     with open(os.path.join(out, "tests.csv"), "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
         w.writeheader()
         w.writerows(rows)
     failures = []
-    logs = os.path.join(session, "tests", "logs.tar.gz")
-    if os.path.exists(logs):
-        with tarfile.open(logs) as t:
-            for m in t.getmembers():
-                if not m.name.endswith(".log"):
-                    continue
-                text = t.extractfile(m).read().decode("utf-8", "replace")
-                for line in text.splitlines():
-                    mt = re.match(r"\[  FAILED  \] (\S+)(, where .*)?$", line)
-                    if mt and "listed below" not in line and not line.rstrip().endswith("ms)"):
-                        failures.append("%s: %s" % (os.path.basename(m.name)[:-4], mt.group(1)))
+    for program, text in logs.items():
+        for line in text.splitlines():
+            mt = re.match(r"\[  FAILED  \] (\S+)(, where .*)?$", line)
+            if mt and "listed below" not in line and not line.rstrip().endswith("ms)"):
+                failures.append("%s: %s" % (program, mt.group(1)))
     failures = sorted(set(failures))
     with open(os.path.join(out, "failures.txt"), "w") as f:
         f.write("\n".join(failures) + ("\n" if failures else ""))
     passed = sum(int(r["passed"]) for r in rows)
     failed = sum(int(r["failed"]) for r in rows)
-    bad = [r["program"] for r in rows if r["exit_status"] not in ("0",)]
-    print("tests: %d programs, %d tests passed, %d failed; programs not exiting 0: %s"
+    cut = [r["program"] + " (in " + (r["running_at_limit"] or "?") + ")" for r in rows if r["exit_status"] == "124"]
+    bad = [r["program"] for r in rows if r["exit_status"] not in ("0", "124")]
+    print("tests: %d programs, %d tests passed, %d failed; programs exiting non-zero: %s"
           % (len(rows), passed, failed, ", ".join(bad) or "none"))
+    print("cut at their time limit (tests until then passed): %s" % (", ".join(cut) or "none"))
     for line in failures:
         print("  failed: " + line)
 
@@ -110,7 +154,58 @@ def main(argv):
             if r["fraction_of_triad_bandwidth"] or r["benchmark"].startswith("BM_ReferenceTriad"):
                 print("  %-60s %12.3g items/s  %s" % (r["benchmark"], float(r["items_per_second"] or 0),
                                                       r["fraction_of_triad_bandwidth"]))
+    summarize_sanitizer(session, out)
+    summarize_obstacles(session, out)
     return 0
+
+
+def summarize_sanitizer(session, out):
+    path = os.path.join(session, "sanitizer.csv")
+    if not os.path.exists(path):
+        return
+    shutil.copy(path, os.path.join(out, "sanitizer.csv"))
+    print("compute-sanitizer memcheck:")
+    for r in csv.DictReader(open(path)):
+        print("  %-4s %-36s exit %-8s memcheck errors %-4s failed tests %s"
+              % (r["layout"], r["program"], r["exit_status"], r["memcheck_errors"], r["failed_tests"]))
+
+
+def summarize_obstacles(session, out):
+    d = os.path.join(session, "obstacles")
+    if not os.path.isdir(d):
+        return
+    for src, dst in (("gpu.csv", "obstacles.csv"), ("gpu.json", "obstacles.json"),
+                     ("gpu.replicas.csv", "obstacles.replicas.csv"), ("log.txt", "obstacles_log.txt"),
+                     ("status.txt", "obstacles_status.txt")):
+        if os.path.exists(os.path.join(d, src)):
+            shutil.copy(os.path.join(d, src), os.path.join(out, dst))
+    gpu_csv = os.path.join(d, "gpu.csv")
+    if not os.path.exists(gpu_csv) or not os.path.exists(CPU_REFERENCE):
+        print("obstacles: no GPU summary (the ensemble did not finish)" if not os.path.exists(gpu_csv)
+              else "obstacles: no CPU reference at " + CPU_REFERENCE)
+        return
+    gpu = next(csv.DictReader(open(gpu_csv)))
+    cpu = next(csv.DictReader(open(CPU_REFERENCE)))
+    result = {"cpu_reference": os.path.relpath(CPU_REFERENCE, out)}
+    for tag, r in (("gpu", gpu), ("cpu", cpu)):
+        result[tag] = {k: float(r[k]) for k in ("replicas", "clogged", "decay_length", "decay_length_lower",
+                                                  "decay_length_upper")}
+    n_g, n_c = result["gpu"]["clogged"], result["cpu"]["clogged"]
+    if n_g > 0 and n_c > 0:
+        ratio = result["gpu"]["decay_length"] / result["cpu"]["decay_length"]
+        se = math.sqrt(1 / n_g + 1 / n_c)
+        result["ratio"] = ratio
+        result["ratio_lower"] = ratio * math.exp(-1.96 * se)
+        result["ratio_upper"] = ratio * math.exp(1.96 * se)
+        result["consistent_at_95"] = result["ratio_lower"] <= 1 <= result["ratio_upper"]
+    with open(os.path.join(out, "obstacles_vs_cpu.json"), "w") as f:
+        json.dump(result, f, indent=2)
+    print("obstacles: GPU λ = %.3g [%.3g, %.3g]σ (%d/%d clogged), CPU λ = %.3g [%.3g, %.3g]σ (%d/%d); ratio %s"
+          % (result["gpu"]["decay_length"], result["gpu"]["decay_length_lower"], result["gpu"]["decay_length_upper"],
+             n_g, result["gpu"]["replicas"], result["cpu"]["decay_length"], result["cpu"]["decay_length_lower"],
+             result["cpu"]["decay_length_upper"], n_c, result["cpu"]["replicas"],
+             "%.3f [%.3f, %.3f]" % (result["ratio"], result["ratio_lower"], result["ratio_upper"])
+             if "ratio" in result else "undefined"))
 
 
 if __name__ == "__main__":

@@ -48,6 +48,17 @@ constexpr bool has_host_arithmetic() {
   return Kokkos::SpaceAccessibility<Kokkos::HostSpace, typename ExecSpace::memory_space>::accessible;
 }
 
+// Run-to-run bitwise reproducibility (docs/design.md, "Determinism"). On a host backend the default
+// paths give it (per-thread copies summed in a fixed order), and a test checks the default. A device
+// backend's default sums several threads' contributions with float atomics, whose order changes
+// from run to run (the first H200 runs: MPC cell sums, disc impulses, half-list scatters), so a test
+// that compares two runs bit for bit there runs in the deterministic-sum mode: full neighbor lists,
+// sorted MPC cell sums, disc impulses summed in index order.
+template <class ExecSpace>
+constexpr bool reproducible_by_default() {
+  return has_host_arithmetic<ExecSpace>();
+}
+
 template <class Real>
 constexpr double contraction_bound(int operations, double scale) {
   return double(operations) * eps<Real>() * scale;
