@@ -42,6 +42,7 @@ struct FlowMeasurement {
   double sum_u = 0, sum_u2 = 0;                       // Σ⟨u_x⟩, Σ⟨u_x⟩² per sample
   std::vector<double> sample_u, sample_tether;        // per sample
   long long samples = 0;
+  double count_all = 0, velocity_all = 0, tether_all = 0;  // whole box: fluid count, Σu_x, all pillars' tethers
 
   bool walls() const { return dim == 3 && H > 0; }
 };
@@ -54,6 +55,14 @@ struct PermeabilityEstimates {
   double pillar_force_pair = 0, pillar_force_tether = 0;  // F_m per sample
   int measured_pillars = 0;                            // n_m
   double kappa_drag_pair = 0, kappa_drag_tether = 0;
+  // One volume for both estimators (issue 28, item 1). The volume flux from the fluid's momentum,
+  // U_s = Σu_x/(ρ V), exact in a steady state whatever the local porosity (the paper's ε⟨u⟩ takes
+  // the array's mean ε with the region's ⟨u⟩); in the region and over the whole box; the region's
+  // fluid fraction N_f/(ρ V_r). Darcy over the whole period with the paper's Δp and the box flux;
+  // eq. (3) over the region with the region's own pillar density (n_m pillars in V_r: F per volume
+  // F_m/V_r) and the region's flux: the region's permeability.
+  double region_fluid_fraction = 0, superficial_velocity_region = 0, superficial_velocity_box = 0;
+  double kappa_darcy_box = 0, kappa_drag_tether_region = 0;
   double kappa_darcy_relative_error = 0, kappa_drag_tether_relative_error = 0;
   // Elevation profile (one bin without walls): bin centre z (about the mid-plane), ⟨u_x⟩, u_s,
   // pillar force density, and the Brinkman fit (3D with walls and pillars).
@@ -118,6 +127,18 @@ inline PermeabilityEstimates estimate_permeability(const FlowMeasurement& m) {
   };
   e.kappa_drag_pair = kappa_eq3(e.pillar_force_pair);
   e.kappa_drag_tether = kappa_eq3(e.pillar_force_tether);
+  {
+    const double v_region = (m.x_hi - m.x_lo) * m.Ly * height, v_box = m.Lx * m.Ly * height;
+    if (m.density > 0 && samples > 0) {
+      e.region_fluid_fraction = n_fluid / (samples * m.density * v_region);
+      e.superficial_velocity_region = u_sum / (samples * m.density * v_region);
+      e.superficial_velocity_box = m.velocity_all / (samples * m.density * v_box);
+    }
+    e.kappa_darcy_box = m.viscosity * e.superficial_velocity_box * m.Lx / e.pressure_difference;
+    e.kappa_drag_tether_region = has_pillars && n_m > 0 && e.pillar_force_tether != 0
+                                     ? m.viscosity * e.superficial_velocity_region * v_region / e.pillar_force_tether
+                                     : 0.0;
+  }
   e.kappa_darcy_relative_error = e.mean_u_block_error / std::abs(e.mean_u);
   e.kappa_drag_tether_relative_error = std::sqrt(std::pow(e.mean_u_block_error / e.mean_u, 2) +
                                                  std::pow(e.tether_block_error / e.pillar_force_tether, 2));

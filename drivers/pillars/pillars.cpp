@@ -92,7 +92,7 @@ void run_flow(const Parameters& par, const cli::DriverApp& app) {
   pillars::FlowMeasurement m{D, g.Lx, g.Ly, g.Lz, g.H, g.diameter, s.porosity, g.centres, flow.x_lo(), flow.x_hi(),
                              mu, s.driving_force, par.density, par.driving_length, rec.count, rec.velocity,
                              rec.pillar_force, rec.tether, rec.driven, rec.sum_u, rec.sum_u2, rec.sample_u,
-                             rec.sample_tether, rec.samples};
+                             rec.sample_tether, rec.samples, rec.count_all, rec.velocity_all, rec.tether_all};
   const auto e = pillars::estimate_permeability(m);
   pillars::write_flow_profile(stem + "_profile.csv", e, rec.count);
   recording.write_xdmf(out.xdmf);
@@ -111,7 +111,14 @@ void run_flow(const Parameters& par, const cli::DriverApp& app) {
               {"kappa_drag_tether_relative_error", e.kappa_drag_tether_relative_error},
               {"superficial_velocity", e.superficial_velocity}, {"kappa_darcy", e.kappa_darcy},
               {"kappa_darcy_over_d2", e.kappa_darcy / d2}, {"kappa_drag_pair", e.kappa_drag_pair},
-              {"kappa_drag_tether", e.kappa_drag_tether}, {"wall_force_bottom", rec.wall_bottom / samples},
+              {"kappa_drag_tether", e.kappa_drag_tether}, {"measured_pillars", e.measured_pillars},
+              {"region", {flow.x_lo(), flow.x_hi()}}, {"region_fluid_fraction", e.region_fluid_fraction},
+              {"superficial_velocity_region", e.superficial_velocity_region},
+              {"superficial_velocity_box", e.superficial_velocity_box}, {"kappa_darcy_box", e.kappa_darcy_box},
+              {"kappa_drag_tether_region", e.kappa_drag_tether_region},
+              {"tether_force_all_pillars", -rec.tether_all / samples},
+              {"driving_force_total", s.driving_force * rec.driven / samples},
+              {"wall_force_bottom", rec.wall_bottom / samples},
               {"wall_force_top", rec.wall_top / samples}};
   if (!g.centres.empty() && s.porosity < 1)
     for (const auto& [name, value] : pillars::square_array_theory(s.porosity)) j["theory_over_d2"][name] = value;

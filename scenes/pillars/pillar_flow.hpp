@@ -107,6 +107,7 @@ inline SceneGeometry flow_geometry(const PillarLayout& layout, int dim, double h
 struct FlowRecord {
   std::vector<double> count, velocity, pillar_force;  // per elevation bin
   double wall_bottom = 0, wall_top = 0, tether = 0, sum_u = 0, sum_u2 = 0, driven = 0;
+  double count_all = 0, velocity_all = 0, tether_all = 0;  // whole box (fluid count, Σu_x; all pillars' tethers)
   std::vector<double> sample_u, sample_tether;  // per sample, for block-averaged errors
   long long samples = 0;
 
@@ -126,6 +127,9 @@ struct FlowRecord {
     wall_top += fs.wall_force_top;
     tether += fs.pillar_tether;
     driven += fs.driven_fluid;
+    count_all += fs.count_all;
+    velocity_all += fs.velocity_all;
+    tether_all += fs.pillar_tether_all;
     const double mean_u = c > 0 ? u / c : 0.0;
     sample_u.push_back(mean_u);
     sample_tether.push_back(-fs.pillar_tether);
@@ -142,15 +146,21 @@ struct FlowRecord {
     a("samples/pillar_force", pillar_force);
     a("samples/per_sample_u", sample_u);
     a("samples/per_sample_tether", sample_tether);
-    std::vector<double> sums{wall_bottom, wall_top, tether, sum_u, sum_u2, driven};
+    std::vector<double> sums{wall_bottom, wall_top, tether, sum_u, sum_u2, driven, count_all, velocity_all, tether_all};
     a("samples/sums", sums);
     if (Archive::loading) {
+      if (sums.size() != 9)  // a checkpoint from before the whole-box sums cannot give them
+        throw std::invalid_argument("pillars checkpoint: samples/sums has " + std::to_string(sums.size()) +
+                                    " entries, expected 9 (written before the whole-box sums; start the run afresh)");
       wall_bottom = sums.at(0);
       wall_top = sums.at(1);
       tether = sums.at(2);
       sum_u = sums.at(3);
       sum_u2 = sums.at(4);
       driven = sums.at(5);
+      count_all = sums.at(6);
+      velocity_all = sums.at(7);
+      tether_all = sums.at(8);
     }
     a("samples/taken", samples);
   }

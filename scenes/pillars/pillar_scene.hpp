@@ -127,10 +127,13 @@ int carve_solids(mdpd::MdpdSystem<D, Real, Exec>& sys, const SceneGeometry& g) {
 //   pressure on its cut half unbalanced), binned by site elevation, and the tether forces on the
 //   same particles; the fluid's force on the wall particles below and above the channel in the
 //   region. `pillar_x` holds the pillars' axis positions x.
+//   Over the whole box as well (issue 28, item 1: the estimators over one and the same volume): the
+//   fluid count and Σu_x, and the tether forces on every pillar particle.
 struct FlowSample {
   std::vector<double> count, velocity, pillar_force;
   double wall_force_bottom = 0, wall_force_top = 0, pillar_tether = 0;
   double driven_fluid = 0;  // fluid particles in the driving region
+  double count_all = 0, velocity_all = 0, pillar_tether_all = 0;  // whole box
 };
 
 template <int D, class Real, class Exec>
@@ -151,11 +154,19 @@ FlowSample sample_flow(const mdpd::MdpdSystem<D, Real, Exec>& sys, const SceneGe
   const double width = x_hi - x_lo;
   const double bin_width = walls ? H / bins : 1.0;
   const double k_tether = sys.has_solids() ? sys.options().k_S : 0.0;
-  const auto sums = parallel_sum<3 * NB + 4, Exec>(
-      "mesoflow::pillars::sample_flow", int(sys.particles.size()), KOKKOS_LAMBDA(int i, double(&acc)[3 * NB + 4]) {
+  const auto sums = parallel_sum<3 * NB + 7, Exec>(
+      "mesoflow::pillars::sample_flow", int(sys.particles.size()), KOKKOS_LAMBDA(int i, double(&acc)[3 * NB + 7]) {
         const bool fluid = type(i) == mdpd::particle_type::fluid;
         if (fluid && region.contains(x(i, 0), Real(Lx))) acc[3 * NB + 3] += 1.0;
         const bool pillar = !fluid && body(i) >= 0;
+        if (fluid) {
+          acc[3 * NB + 4] += 1.0;
+          acc[3 * NB + 5] += double(v(i, 0));
+        } else if (pillar) {
+          double stretch = double(site(i, 0)) - double(x(i, 0));
+          stretch -= Lx * kmath::floor(stretch / Lx + 0.5);
+          acc[3 * NB + 6] += k_tether * stretch;
+        }
         const double xi = fluid ? double(x(i, 0)) : (pillar ? pillar_x(body(i)) : double(site(i, 0)));
         double s = xi - x_lo;
         s -= Lx * kmath::floor(s / Lx);
@@ -186,6 +197,9 @@ FlowSample sample_flow(const mdpd::MdpdSystem<D, Real, Exec>& sys, const SceneGe
   out.wall_force_top = sums[3 * NB + 1];
   out.pillar_tether = sums[3 * NB + 2];
   out.driven_fluid = sums[3 * NB + 3];
+  out.count_all = sums[3 * NB + 4];
+  out.velocity_all = sums[3 * NB + 5];
+  out.pillar_tether_all = sums[3 * NB + 6];
   return out;
 }
 

@@ -1,7 +1,9 @@
 // Permeability theory (pillar-array permeability paper, Fig. 7b, eqs. 5 and 7): every κ(ε) formula
 // against numbers printed in its source or in a secondary source (cited beside each), the exact
 // square-array results of Sangani & Acrivos 1982 as the common yardstick, Brinkman's profile and
-// eq. 7 with their limits, the (B, α) fit on synthetic profiles, and the Darcy line fit.
+// eq. 7 with their limits, the (B, α) fit on synthetic profiles, and the Darcy line fit; the
+// estimators of a flow run on a synthetic measurement whose region is denser than the array.
+#include "analysis/pillars/permeability_estimates.hpp"
 #include "analysis/pillars/permeability_theory.hpp"
 
 #include <gtest/gtest.h>
@@ -29,6 +31,51 @@ void expect_invalid(F f, const std::string& word) {
 
 // SA 1982 Table 1 as κ/d² at φ = 0.05 ... 0.75 (index 0 ... 8).
 const std::vector<std::array<double, 2>> exact = sangani_acrivos_square_table();
+
+// A synthetic 2D measurement: flux q = 0.02 everywhere (steady state), a region x ∈ [5, 15) of a
+// 20 × 10 box whose fluid fraction is 0.6 while the array's porosity is 0.7, and whose 2 pillars
+// carry the drag of a local permeability κ_r = 0.5 (F_m = μ q V_r/κ_r). The paper's U_s = ε⟨u⟩ takes
+// the region's ⟨u⟩ = q/0.6 with the array's ε (7/6 of q); the flux from the momentum, Σu/(ρV), is q
+// in the region and over the box, and eq. (3) with the region's own pillar density gives κ_r back.
+TEST(PermeabilityEstimates, RegionFluxAndLocalDragRecoverTheRegionsPermeability) {
+  FlowMeasurement m;
+  m.dim = 2;
+  m.Lx = 20;
+  m.Ly = 10;
+  m.diameter = 2;
+  m.porosity = 0.7;
+  m.centres = {{8.0, 3.0}, {12.0, 7.0}, {2.0, 5.0}};  // two axes in the region, one outside
+  m.x_lo = 5;
+  m.x_hi = 15;
+  m.viscosity = 26.1;
+  m.driving_force = 0.3;
+  m.density = 6;
+  m.driving_length = 5;
+  const double q = 0.02, kappa_r = 0.5, v_r = 100, samples = 10;
+  m.samples = 10;
+  m.count = {0.6 * m.density * v_r * samples};
+  m.velocity = {q * m.density * v_r * samples};
+  m.pillar_force = {0};
+  const double f_m = m.viscosity * q * v_r / kappa_r;
+  m.tether = -f_m * samples;
+  m.sample_u.assign(10, q / 0.6);
+  m.sample_tether.assign(10, f_m);
+  m.sum_u = 10 * q / 0.6;
+  m.sum_u2 = 10 * (q / 0.6) * (q / 0.6);
+  m.velocity_all = q * m.density * m.Lx * m.Ly * samples;
+  m.count_all = 0.7 * m.density * m.Lx * m.Ly * samples;
+  const auto e = estimate_permeability(m);
+  EXPECT_EQ(e.measured_pillars, 2);
+  EXPECT_NEAR(e.region_fluid_fraction, 0.6, 1e-12);
+  EXPECT_NEAR(e.superficial_velocity, 0.7 * q / 0.6, 1e-14);  // the paper's ε⟨u⟩: 7/6 of the flux
+  EXPECT_NEAR(e.superficial_velocity_region, q, 1e-14);
+  EXPECT_NEAR(e.superficial_velocity_box, q, 1e-14);
+  EXPECT_NEAR(e.kappa_drag_tether_region, kappa_r, 1e-12);
+  EXPECT_NEAR(e.kappa_darcy_box, m.viscosity * q * m.Lx / (0.3 * 6 * 5), 1e-12);  // the paper's Δp = f_b ρ L_d
+  // Eq. (3) as printed, with the array's φ and the region's drag per pillar: another number.
+  const double phi = 0.3, per_pillar = f_m / 2;
+  EXPECT_NEAR(e.kappa_drag_tether, pi * m.viscosity * (0.7 * q / 0.6) * 4 / (4 * phi * per_pillar), 1e-12);
+}
 
 TEST(SquareArrayTheory, SanganiAcrivosTableIsTheirDragConverted) {
   ASSERT_EQ(exact.size(), 9u);
