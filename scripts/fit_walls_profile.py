@@ -9,9 +9,18 @@ run's block error.
 """
 import csv
 import json
+import math
 import sys
 
-import numpy as np
+
+def fit_parabola(z, u, half_bin):
+    """Least squares of u = A − B(z² + h²/3) (the bin average of A − Bz² over ±h): (A, B)."""
+    x = [-(zi * zi + half_bin * half_bin / 3) for zi in z]
+    n, sx, sxx = len(x), sum(x), sum(xi * xi for xi in x)
+    sy, sxy = sum(u), sum(xi * ui for xi, ui in zip(x, u))
+    B = (n * sxy - sx * sy) / (n * sxx - sx * sx)
+    A = (sy - B * sx) / n
+    return A, B
 
 
 def main(argv):
@@ -21,17 +30,16 @@ def main(argv):
     run = json.load(open(argv[1]))
     rows = list(csv.DictReader(open(argv[2])))
     mu = float(argv[3])
-    z = np.array([float(r["z"]) for r in rows])
-    u = np.array([float(r["mean_ux"]) for r in rows])
+    z = [float(r["z"]) for r in rows]
+    u = [float(r["mean_ux"]) for r in rows]
     half_bin = 0.5 * (z[1] - z[0])
     H = run["walls_height"]
     gradient = run["pressure_difference"] / run["box"][0]
     out = {"run": argv[1], "H": H, "viscosity": mu, "fits": []}
     for excluded in (0, 1):  # all bins; without the bin at each wall
         s = slice(excluded, len(z) - excluded)
-        X = np.vstack([np.ones(len(z[s])), -(z[s] ** 2 + half_bin ** 2 / 3)]).T
-        (A, B), *_ = np.linalg.lstsq(X, u[s], rcond=None)
-        w = float(np.sqrt(A / B))
+        A, B = fit_parabola(z[s], u[s], half_bin)
+        w = math.sqrt(A / B)
         out["fits"].append({"bins_excluded_at_each_wall": excluded, "no_slip_half_width": w,
                             "slip": w - H / 2, "viscosity_from_curvature": gradient / (2 * B)})
     kappa = mu * run["mean_ux"] * run["box"][0] / run["pressure_difference"]
@@ -39,7 +47,7 @@ def main(argv):
     out["kappa_relative_error"] = run["kappa_darcy_relative_error"]
     out["kappa_walls_theory"] = H * H / 12
     out["kappa_over_theory"] = kappa / (H * H / 12)
-    out["kappa_volume_average_over_theory"] = mu * float(np.mean(u)) * run["box"][0] / run["pressure_difference"] / (H * H / 12)
+    out["kappa_volume_average_over_theory"] = mu * (sum(u) / len(u)) * run["box"][0] / run["pressure_difference"] / (H * H / 12)
     json.dump(out, open(argv[4], "w"), indent=2)
     print(json.dumps(out, indent=2))
     return 0
