@@ -35,9 +35,10 @@ Surfaces<Real, Exec> obstacle_array(double L) {
 }
 
 template <class Real>
-void BM_DropletsInObstacleArray(benchmark::State& state) {
+void droplets_in_obstacle_array(benchmark::State& state, bool edge_contacts) {
   const int replicas = int(state.range(0));
   DropletParameters par;
+  par.edge_obstacle_contacts = edge_contacts;
   const double L = 20.0 * std::ceil(std::sqrt(double(replicas)));
   std::vector<Vec<2, double>> centres;
   const int per_row = int(std::ceil(std::sqrt(double(replicas))));
@@ -57,6 +58,18 @@ void BM_DropletsInObstacleArray(benchmark::State& state) {
   const double steps = double(state.iterations()) * steps_per_iteration;
   state.SetItemsProcessed(int64_t(steps * par.vertices * replicas));
   state.counters["steps_per_second"] = benchmark::Counter(steps, benchmark::Counter::kIsRate);
+}
+
+// Droplets in obstacle arrays, one per 20σ × 20σ cell (the Fig. 2 droplet, N_v = 256): vertex-steps/s
+// with eq. 3's vertex contacts, and with the edge contacts (dp/edge_obstacle_repulsion.hpp: a second
+// loop over the vertices, each edge queried twice) — the pair's ratio is the edge contacts' cost.
+template <class Real>
+void BM_DropletsInObstacleArray(benchmark::State& state) {
+  droplets_in_obstacle_array<Real>(state, false);
+}
+template <class Real>
+void BM_DropletsInObstacleArrayEdgeContacts(benchmark::State& state) {
+  droplets_in_obstacle_array<Real>(state, true);
 }
 
 // The fused DP shape loop with all five terms (bending included, which the droplet scene omits):
@@ -227,7 +240,10 @@ BENCHMARK(BM_ShapeForcesAllTerms)->UseManualTime()->Unit(benchmark::kMillisecond
 BENCHMARK(BM_OrificeSceneTerms)->DenseRange(0, 3)->UseManualTime()->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_SoftParticleSurfaceForces)->Arg(65536)->UseManualTime()->Unit(benchmark::kMillisecond);
 BENCHMARK_TEMPLATE(BM_DropletsInObstacleArray, double)->Arg(1)->Arg(256)->UseManualTime()->Unit(benchmark::kMillisecond);
-
+BENCHMARK_TEMPLATE(BM_DropletsInObstacleArrayEdgeContacts, double)
+    ->Arg(256)
+    ->UseManualTime()
+    ->Unit(benchmark::kMillisecond);
 
 // Device-sized problems (issue 26, item 6): an accelerator needs millions of items per launch before
 // a step is limited by memory bandwidth rather than launch latency; these are registered in device

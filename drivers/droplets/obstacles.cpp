@@ -20,6 +20,9 @@
 // K_l/Γ defaults to 0.1, not the paper's 10⁻³: a held droplet's vertices slide along its interface
 // at the rate π² k_l/b∞ (docs/droplets.md, deviation 4), so at 10⁻³ E_k reaches the clog threshold
 // only after ~10⁴ t0 at Γ ≈ 1 and every replica would end right-censored within T.
+// --obstacle-contacts edges (DP) makes the obstacles repel whole edges, not only vertices
+// (kernels/dp/edge_obstacle_repulsion.hpp): below K_l·N_v ≈ 1.2 an obstacle otherwise passes
+// between two vertices and through a floppy droplet (docs/droplets.md, finding 7).
 //
 // Output (<out> = --output without its extension): <out>.h5 (H5MD-style: /h5md, /parameters as
 // attributes, /results/replicas, /results/points, /results/survival), <out>.csv (one row per sweep
@@ -62,6 +65,7 @@ struct Parameters {
   std::string model = "dp";
   std::string line_tension = "1.09";   // Γ list (DP)
   std::string sp_wall_energy = "10";   // E_w list (SP)
+  std::string obstacle_contacts = "vertices";  // DP: what the obstacles repel
   std::string gap = "0.2";             // w_ob list
   std::string clog_test = "full";      // full, early or both (scenes/droplets/clog_detection.hpp)
   std::string schedule = "sweep";      // DP: sweep (one batch for every point, refilled) or points
@@ -261,6 +265,10 @@ int main(int argc, char** argv) {
   app.add_real("--perimeter-ratio", par.sweep.perimeter_ratio, "DP: perimeter elasticity over line tension K_l/Γ", 0.0, 10.0);
   app.add_real("--dp-wall-energy", par.sweep.dp_wall_energy, "DP: vertex-obstacle energy E_w of eq. 3", 0.0, 1e4,
                Bounds::left_open);
+  app.add_choice("--obstacle-contacts", par.obstacle_contacts,
+                 "DP: what the obstacles repel: vertices (eq. 3 as printed) or edges (eq. 3's law on circulo-line "
+                 "edges of width delta, so that an obstacle cannot pass between two vertices at small K_l)",
+                 {"vertices", "edges"});
   app.add_real("--near-wall-drag", par.sweep.near_wall_drag, "DP: near-wall drag b0/b∞ of eq. 6", 0.0, 100.0);
   app.add_real("--terminal-speed", par.sweep.terminal_speed, "terminal speed V_t (eq. 15)", 0.0, 10.0, Bounds::left_open);
   app.add_real("--dt", par.sweep.dt, "time step Δt/t0 (0: 10⁻³ or the stability limit if smaller)", 0.0, 0.01);
@@ -271,6 +279,9 @@ int main(int argc, char** argv) {
   app.add_flag("--restart", par.restart, "resume a killed sweep from <output>.ckpt.h5 (the same parameters)");
   return ranks.finish(app.run(argc, argv, [&] {
     par.sweep.soft_particles = par.model == "sp";
+    par.sweep.edge_contacts = par.obstacle_contacts == "edges";
+    if (par.sweep.soft_particles && par.sweep.edge_contacts)
+      throw std::invalid_argument("--obstacle-contacts: edges needs --model dp (an SP droplet has no edges)");
     par.sweep.clog_test = mesoflow::droplets::clog_test_from_name(par.clog_test);
     const auto strengths = par.sweep.soft_particles
                                ? mesoflow::cli::parse_real_list("--sp-wall-energy", par.sp_wall_energy, 0.001, 1e4)

@@ -13,6 +13,10 @@
 // --mode theory: the square- and hexagonal-array permeability curves over ε (<out>_theory.csv) and
 //   Sangani & Acrivos' exact square-array values (<out>_sangani_acrivos_table.csv).
 // --mode viscosity: periodic Poiseuille in a periodic box; the two parabolas of u_x(z) give η.
+// --mode bulk: the fluid at rest in a periodic box (--box, --lz): per sample the mean many-body
+//   density ⟨ρ̄⟩, k_BT and the pressure (kinetic + conservative and dissipative virials), g(r) (scenes/pillars/
+//   bulk_run.hpp); <out>.json (means, block errors), <out>_samples.csv, <out>_rdf.csv. The LAMMPS
+//   comparison of docs/mdpd.md (scripts/compare_lammps_mdpd).
 // Checkpoints (flow): every --checkpoint-every steps after carving, <out>.ckpt.h5 is replaced
 // atomically by the state of PillarFlow::checkpoint_fields; --restart continues bit-identically at the
 // same thread count (only --steps, --checkpoint-every, --check-every and --threads may change).
@@ -31,9 +35,13 @@
 #include "drivers/common/progress.hpp"
 #include "drivers/common/restart.hpp"
 #include "scenes/common/time_step_limit.hpp"
+#include "analysis/common/block_average.hpp"
+#include "scenes/pillars/bulk_run.hpp"
 #include "scenes/pillars/pillar_runs.hpp"
 
 #include <chrono>
+#include <fstream>
+#include <iomanip>
 #include <iostream>
 
 namespace mesoflow {
@@ -44,6 +52,8 @@ struct Parameters : pillars::PillarRunParameters {
   int threads = 0;
   bool restart = false;
   bool force_dt = false;  // --force-dt
+  double rdf_max = 3.0, rdf_bin = 0.02;  // bulk mode: g(r) range and bin width
+  long long rdf_every = 10;              // bulk mode: samples between g(r) histograms
 };
 
 template <int D>
@@ -168,6 +178,7 @@ void run_viscosity(const Parameters& par, const cli::DriverApp& app) {
   pillars::write_viscosity_profile(stem + "_profile.csv", fit);
   cli::Json j{{"driver", "pillars"}, {"mode", "viscosity"}, {"dimension", D}, {"A", mp.A}, {"B", mp.B},
               {"r_B", mp.r_B}, {"R", mp.R}, {"dt", mp.dt}, {"density", rho}, {"force", run.force()},
+              {"density_kernel", par.density_kernel}, {"density_self_term", par.density_self_term},
               {"viscosity", fit.viscosity}, {"viscosity_error", fit.viscosity_error},
               {"max_velocity", fit.max_velocity}, {"temperature", fit.thermal_temperature},
               {"samples", samples.samples}};
@@ -176,6 +187,61 @@ void run_viscosity(const Parameters& par, const cli::DriverApp& app) {
   if (!app.quiet())
     std::cerr << "pillars: viscosity " << fit.viscosity << " ± " << fit.viscosity_error << " (ρ = " << rho
               << ", k_BT = " << fit.thermal_temperature << ")\n";
+}
+
+// The fluid at rest in a periodic box: ⟨ρ̄⟩, k_BT, pressure and g(r) (scenes/pillars/bulk_run.hpp).
+template <int D>
+void run_bulk(const Parameters& par, const cli::DriverApp& app) {
+  const driver::OutputPaths out(app.output());
+  const std::string stem = out.trajectory.substr(0, out.trajectory.size() - 3);
+  pillars::BulkRun<D> run(par, par.rdf_max, par.rdf_bin);
+  const auto& sys = run.system();
+  const auto& mp = run.fluid();
+  cli::ProgressLine progress(par.equilibrate_steps + par.steps, int(sys.particles.size()), !app.quiet());
+  const auto t0 = std::chrono::steady_clock::now();
+  const auto s = run.run(par.equilibrate_steps, par.steps, par.sample_every, par.rdf_every, par.check_every,
+                         [&](long long done) { progress.update(done); });
+  progress.finish();
+  const double wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (s.step.size() < 4) throw std::invalid_argument("--steps must cover at least 4 --sample-every intervals");
+  {
+    std::ofstream csv(stem + "_samples.csv");
+    csv << "step,mean_density,temperature,pressure,pressure_virial,pressure_dissipative\n" << std::setprecision(10);
+    for (std::size_t k = 0; k < s.step.size(); ++k)
+      csv << std::int64_t(s.step[k]) << "," << s.mean_density[k] << "," << s.temperature[k] << "," << s.pressure[k]
+          << "," << s.pressure_virial[k] << "," << s.pressure_dissipative[k] << "\n";
+  }
+  {
+    std::ofstream csv(stem + "_rdf.csv");
+    csv << "r,g\n" << std::setprecision(10);
+    for (std::size_t b = 0; b < s.rdf.size(); ++b) csv << s.rdf_r[b] << "," << s.rdf[b] << "\n";
+  }
+  cli::Json j{{"driver", "pillars"}, {"mode", "bulk"}, {"dimension", D}, {"A", mp.A}, {"B", mp.B},
+              {"r_B", mp.r_B}, {"R", mp.R}, {"dissipation", mp.dissipation()}, {"dt", mp.dt},
+              {"density_kernel", par.density_kernel}, {"density_self_term", par.density_self_term},
+              {"particles", sys.particles.size()}, {"number_density", run.number_density()},
+              {"volume", run.volume()}, {"samples", s.step.size()}, {"sample_every", par.sample_every},
+              {"seed", par.seed}};
+  const auto add = [&](const std::string& name, const std::vector<double>& q) {
+    double mean = 0, error = 0;
+    analysis::block_average(q, mean, error);
+    j[name] = mean;
+    j[name + "_error"] = error;
+  };
+  add("mean_density", s.mean_density);
+  add("temperature", s.temperature);
+  add("pressure", s.pressure);
+  add("pressure_virial", s.pressure_virial);
+  add("pressure_dissipative", s.pressure_dissipative);
+  j["rdf_max"] = run.rdf_max();
+  j["components"] = sys.components();
+  j["wall_seconds"] = wall_seconds;
+  j["kokkos"] = kokkos_configuration();
+  cli::write_summary(out.summary, j);
+  if (!app.quiet())
+    std::cerr << "pillars: <rho_bar> = " << j["mean_density"].get<double>() << " ± " << j["mean_density_error"].get<double>()
+              << ", P = " << j["pressure"].get<double>() << " ± " << j["pressure_error"].get<double>()
+              << ", k_BT = " << j["temperature"].get<double>() << "\n";
 }
 
 }  // namespace
@@ -187,8 +253,8 @@ int main(int argc, char** argv) {
   mesoflow::cli::DriverApp app("MDPD flow through pillar arrays: permeability, Brinkman fits, viscosity (Soft Matter 19, 436)",
                                "pillars.h5");
   app.add_choice("--mode", par.mode,
-                 "flow through pillars, the fluid's viscosity (periodic Poiseuille), or the theory curves (CSV)",
-                 {"flow", "viscosity", "theory"});
+                 "flow through pillars, the fluid's viscosity (periodic Poiseuille), the theory curves (CSV), or the fluid at rest (bulk: density, pressure, g(r))",
+                 {"flow", "viscosity", "theory", "bulk"});
   app.add_int("--dimension", par.dimension, "2 (pillars only) or 3", 2, 3);
   app.add_choice("--layout", par.layout, "pillar arrangement",
                  {"square", "rotated-square", "hexagonal", "irregular", "file", "none"});
@@ -221,7 +287,15 @@ int main(int argc, char** argv) {
   app.add_real("--dt", par.dt, "time step dt/τ (refused above the stability limit)", 0.0, 0.05, Bounds::left_open);
   app.add_flag(mesoflow::cli::force_dt_flag, par.force_dt, mesoflow::cli::force_dt_help);
   app.add_real("--k-S", par.k_S, "tether stiffness of solid particles", 0.0, 1e4);
-  app.add_choice("--density-kernel", par.density_kernel, "many-body density weight", {"normalized", "lucy"});
+  app.add_choice("--density-kernel", par.density_kernel, "many-body density weight (lucy: LAMMPS' mdpd/rhosum)",
+                 {"normalized", "lucy"});
+  app.add_choice("--density-self-term", par.density_self_term,
+                 "add the self weight w(0) to every density (off: LAMMPS' mdpd/rhosum, which has none)",
+                 {"off", "on"});
+  app.add_real("--rdf-max", par.rdf_max, "bulk mode: g(r) range (at most half the shortest box edge)", 0.1, 100.0);
+  app.add_real("--rdf-bin", par.rdf_bin, "bulk mode: g(r) bin width", 0.001, 1.0);
+  app.add_int("--rdf-every", par.rdf_every, "bulk mode: samples between g(r) histograms (0: no g(r))", 0,
+              1000000000LL);
   app.add_choice("--list", par.list, "neighbor list", {"half", "full"});
   app.add_int("--seed", par.seed, "random seed", 0, 4294967295LL);
   app.add_int("--threads", par.threads, "host threads (0: OMP_NUM_THREADS or all cores)", 0, 4096);
@@ -243,6 +317,8 @@ int main(int argc, char** argv) {
       mesoflow::pillars::write_theory_tables(stem + "_theory.csv", stem + "_sangani_acrivos_table.csv");
       if (!app.quiet()) std::cerr << "pillars: wrote " << stem << "_theory.csv\n";
     }
+    else if (par.mode == "bulk")
+      par.dimension == 2 ? mesoflow::run_bulk<2>(par, app) : mesoflow::run_bulk<3>(par, app);
     else if (par.mode == "viscosity")
       par.dimension == 2 ? mesoflow::run_viscosity<2>(par, app) : mesoflow::run_viscosity<3>(par, app);
     else

@@ -94,6 +94,25 @@ struct BodyObstacleQuery {
     const Real distance = rho - obstacles.radius();
     return {distance, x - distance * outward, outward};
   }
+
+  // Calls visit(dr), dr = x − c, for the image c of every obstacle centre of body b's array within
+  // `radius` of x (any point, e.g. the middle of an edge of body b): exact like nearest, from the
+  // candidates when the disk of that radius around x lies inside the candidates' disk, from the grid
+  // otherwise.
+  template <class Visit>
+  KOKKOS_INLINE_FUNCTION void for_each_centre_within(int b, const Vec<2, Real>& x, Real radius, Visit&& visit) const {
+    const Real cx = x[0] - reference[3 * b], cy = x[1] - reference[3 * b + 1];
+    const Real trusted = reference[3 * b + 2] + skin + obstacles.cell_width() - kmath::sqrt(cx * cx + cy * cy);
+    if (!(trusted >= radius)) {
+      obstacles.for_each_within(body_array[b], x, radius, [&](const Vec<2, Real>& image) { visit(x - image); });
+      return;
+    }
+    const Real radius2 = radius * radius;
+    for (int k = count[b]; k < count[b + 1]; ++k) {
+      const Vec<2, Real> dr{{x[0] - candidates[2 * k], x[1] - candidates[2 * k + 1]}};
+      if (norm2(dr) < radius2) visit(dr);
+    }
+  }
 };
 
 template <class Real, class ExecSpace = Kokkos::DefaultExecutionSpace>
@@ -364,10 +383,18 @@ struct BodySurfaces {
   int num_walls;
   BodyObstacleQuery<Real, ExecSpace> obstacles;
   const int* body;  // body of each particle
+  // false: pairwise terms see the walls only (the obstacles' repulsion is evaluated elsewhere, on
+  // edges: dp/edge_obstacle_repulsion.hpp); nearest() still sees the obstacles (drag).
+  bool visit_obstacles = true;
 
   BodySurfaces(const typename Surfaces<Real, ExecSpace>::shape_view& wall_shapes, int wall_count,
-               const BodyObstacleList<Real, ExecSpace>& list, const Kokkos::View<int*, ExecSpace>& body_of)
-      : walls(wall_shapes.data()), num_walls(wall_count), obstacles(list.query()), body(body_of.data()) {}
+               const BodyObstacleList<Real, ExecSpace>& list, const Kokkos::View<int*, ExecSpace>& body_of,
+               bool visit_obstacles_ = true)
+      : walls(wall_shapes.data()),
+        num_walls(wall_count),
+        obstacles(list.query()),
+        body(body_of.data()),
+        visit_obstacles(visit_obstacles_) {}
 
   KOKKOS_INLINE_FUNCTION SurfacePoint<2, Real> nearest(int i, const Vec<2, Real>& x) const {
     const SurfacePoint<2, Real> wall = nearest_surface(walls, num_walls, x);
@@ -380,7 +407,8 @@ struct BodySurfaces {
   KOKKOS_INLINE_FUNCTION SurfacePoint<2, Real> nearest_within(int i, const Vec<2, Real>& x, Real reach,
                                                               Visit&& visit) const {
     const SurfacePoint<2, Real> wall = walls_nearest_within(walls, num_walls, x, reach, visit);
-    const SurfacePoint<2, Real> obstacle = obstacles.nearest_within(body[i], x, reach, visit);
+    const SurfacePoint<2, Real> obstacle =
+        visit_obstacles ? obstacles.nearest_within(body[i], x, reach, visit) : obstacles.nearest(body[i], x);
     return obstacle.distance < wall.distance ? obstacle : wall;
   }
 };

@@ -6,7 +6,8 @@
 //   F^D_ij = −D w_D(r) (v_ij·r̂) r̂,     w_D = w_R²                    (9b)
 //   F^R_ij = R w_R(r) θ_ij/√dt r̂,       w_R = w_A = 1 − r/r_A          (9c)
 //   2 k_BT D = R²                                                      (10)
-// with w_B = 1 − r/r_B and the many-body density ρ̄_i = Σ_{j≠i} w_ρ(r_ij) (density_weight.hpp).
+// with w_B = 1 − r/r_B and the many-body density ρ̄_i = Σ_{j≠i} w_ρ(r_ij) (density_weight.hpp; plus
+// w_ρ(0) only with density_self_term = on, which LAMMPS' mdpd/rhosum does not add).
 // Units: r_A = σ (length), m (mass), k_BT = ε (energy), τ = σ√(m/ε). The paper's fluid:
 // ρ = 6σ^-3, A = −40ε/σ, B = 25εσ², r_B = 0.75σ, R = 12 ετ^½/σ (so D = 72 ετ/σ²), dt = 0.01τ;
 // in 2D ρ = 6σ^-2 and B = 30εσ.
@@ -29,6 +30,7 @@ struct MdpdParameters {
   double kT = 1.0;           // thermal energy
   double dt = 0.01;          // time step
   DensityKernel density_kernel = DensityKernel::normalized;
+  DensitySelfTerm density_self_term = DensitySelfTerm::off;  // off: LAMMPS' mdpd/rhosum
 
   double dissipation() const { return R * R / (2.0 * kT); }  // D of eq. (10)
 

@@ -20,6 +20,7 @@
 #include "kernels/common/velocity_verlet.hpp"
 #include "kernels/dp/area_force.hpp"
 #include "kernels/dp/bending_force.hpp"
+#include "kernels/dp/edge_obstacle_repulsion.hpp"
 #include "kernels/dp/line_tension.hpp"
 #include "kernels/dp/gravity.hpp"
 #include "kernels/dp/near_wall_drag.hpp"
@@ -59,6 +60,10 @@ struct DropletParameters {
   // the overlaps below 1% of δ for the Fig. 2 droplet (docs/droplets.md measures the difference).
   double wall_energy = 0.05;
   double vertex_diameter = 1.0;   // δ/l0, the vertex diameter of eq. 3 in units of the edge length
+  // Obstacles repel whole edges (circulo-lines of width δ, kernels/dp/edge_obstacle_repulsion.hpp)
+  // instead of the vertices alone (eq. 3 as printed): a deviation that keeps an obstacle from
+  // passing between two vertices at small K_l (docs/droplets.md, finding 7). Walls stay eq. 3.
+  bool edge_obstacle_contacts = false;
   double near_wall_drag = 0.064;  // b0/b∞
   double terminal_speed = 0.08;   // V_t = Mg/(b∞√(σg)), eq. 15
   double drag_exponent = 4.0 / 3.0;  // α, eq. 6
@@ -111,7 +116,9 @@ inline dp::StiffnessInputs droplet_stiffness(const DropletParameters& par, bool 
   s.edge_length = l0;
   s.perimeter = par.vertices * l0;
   s.vertices = par.vertices;
-  s.wall_energy = with_surfaces ? par.wall_energy : 0.0;
+  // With edge contacts a vertex touched from outside gets the contact of both its edges: twice the
+  // stiffness of eq. 3's vertex contact (dp/edge_obstacle_repulsion.hpp).
+  s.wall_energy = with_surfaces ? par.wall_energy * (par.edge_obstacle_contacts ? 2.0 : 1.0) : 0.0;
   s.vertex_diameter = par.vertex_diameter * l0;
   s.line_tension = par.line_tension;
   s.perimeter_stiffness = par.perimeter_stiffness;
@@ -290,7 +297,11 @@ class DropletScene {
   // f ← −∇U (shape, gravity if on, walls) at the current positions; returns U.
   double conservative_forces(bool with_gravity) {
     double u = shape_forces(with_gravity);
-    if (has_surfaces()) with_surfaces([&](const auto& q) { u += accumulate_surface_forces(q, p_, p_.v, repulsion()); });
+    if (has_surfaces())
+      with_surfaces([&](const auto& q) {
+        u += accumulate_surface_forces(q, p_, p_.v, repulsion());
+        u += edge_obstacle_forces();
+      });
     return u;
   }
 
@@ -486,6 +497,13 @@ class DropletScene {
 
  private:
   bool has_surfaces() const { return surfaces_.num_walls() > 0 || surfaces_.obstacles().size() > 0; }
+  // Whether obstacles repel the droplets' edges (then the surface loop's pairwise term sees the walls only).
+  bool edge_contacts() const { return par_.edge_obstacle_contacts && candidates_.has_value(); }
+  // Adds the edge–obstacle repulsion (after with_surfaces has updated the candidates); 0 without it.
+  double edge_obstacle_forces() {
+    if (!edge_contacts()) return 0.0;
+    return dp::accumulate_edge_obstacle_forces(polygons_, p_, candidates_->query(), repulsion());
+  }
 
   // Calls use(query) with the surface query of the step: with obstacles, walls plus each droplet's
   // obstacle candidates (rebuilt when a droplet has moved by the skin); otherwise the walls alone.
@@ -496,7 +514,8 @@ class DropletScene {
       return;
     }
     candidates_->update(p_.x);
-    use(BodySurfaces<Real, ExecSpace>{surfaces_.walls(), surfaces_.num_walls(), *candidates_, polygons_.body});
+    use(BodySurfaces<Real, ExecSpace>{surfaces_.walls(), surfaces_.num_walls(), *candidates_, polygons_.body,
+                                      !edge_contacts()});
   }
 
   // f ← the forces of a step, the velocity-dependent ones (drag) at velocities u: the term list's
@@ -534,9 +553,14 @@ class DropletScene {
     terms_.term({"bending K_b", "hopper eq. 8", false, par_.bending_stiffness > 0,
                  shape_term(dp::Bending<Real>{Real(par_.bending_stiffness)})});
     terms_.term({"gravity", "", false, true, shape_term(dp::Gravity<Real>{gravity_})});
-    terms_.term({"wall/obstacle repulsion E_w", "eq. 3", false, has_surfaces(), [this] {
+    terms_.term({"wall/obstacle repulsion E_w", "eq. 3", false,
+                 surfaces_.num_walls() > 0 || (candidates_.has_value() && !edge_contacts()), [this] {
                    p_.zero_forces();
                    with_surfaces([&](const auto& q) { accumulate_surface_forces(q, p_, p_.v, repulsion()); });
+                 }});
+    terms_.term({"edge-obstacle repulsion E_w", "eq. 3 on edges", false, edge_contacts(), [this] {
+                   p_.zero_forces();
+                   with_surfaces([&](const auto&) { edge_obstacle_forces(); });
                  }});
     terms_.term({"drag b∞, b0", mixed_ ? "eqs. 5–6 (per droplet)" : "eqs. 5–6", true, par_.drag, [this] {
                    p_.zero_forces();
@@ -548,14 +572,21 @@ class DropletScene {
     terms_.launch("shape loop (one kernel)",
                   {"area elasticity K_a", "segment springs K_l", "line tension Γ", "bending K_b", "gravity"},
                   [this](const typename particles_type::vector_view&) { shape_forces(true); });
-    terms_.launch("surface loop (one kernel)", {"wall/obstacle repulsion E_w", "drag b∞, b0"},
+    terms_.launch("surface loop (one kernel; a second for edge contacts)",
+                  {"wall/obstacle repulsion E_w", "edge-obstacle repulsion E_w", "drag b∞, b0"},
                   [this](const typename particles_type::vector_view& u) {
                     if (par_.drag)
                       with_drag([&](const auto& drag) {
-                        with_surfaces([&](const auto& q) { accumulate_surface_forces(q, p_, u, repulsion(), drag); });
+                        with_surfaces([&](const auto& q) {
+                          accumulate_surface_forces(q, p_, u, repulsion(), drag);
+                          edge_obstacle_forces();
+                        });
                       });
                     else
-                      with_surfaces([&](const auto& q) { accumulate_surface_forces(q, p_, p_.v, repulsion()); });
+                      with_surfaces([&](const auto& q) {
+                        accumulate_surface_forces(q, p_, p_.v, repulsion());
+                        edge_obstacle_forces();
+                      });
                   });
   }
 
@@ -619,6 +650,7 @@ class DropletScene {
     same(a.bending_stiffness == b.bending_stiffness, "the bending stiffness K_b");
     same(a.wall_energy == b.wall_energy, "the wall energy E_w");
     same(a.vertex_diameter == b.vertex_diameter, "the vertex diameter");
+    same(a.edge_obstacle_contacts == b.edge_obstacle_contacts, "the edge-obstacle contacts");
     same(a.drag_exponent == b.drag_exponent, "the drag exponent");
     same(a.drag_floor == b.drag_floor, "the near-wall drag floor");
     same(a.drag == b.drag, "the drag switch");

@@ -256,6 +256,7 @@ struct ObstacleSweep {
   double area_stiffness = 1e4;   // DP: K_a
   double perimeter_ratio = 0.1;  // DP: K_l/Γ (the paper: 10⁻³; see drivers/droplets/obstacles.cpp)
   double dp_wall_energy = 0.05;  // DP: E_w of eq. 3
+  bool edge_contacts = false;    // DP: obstacles repel whole edges (DropletParameters::edge_obstacle_contacts)
   double near_wall_drag = 0.0;   // DP: b0/b∞
   double terminal_speed = 0.08;  // V_t (eq. 15)
   double dt = 0.0;               // Δt/t0; 0: 10⁻³ or the stability limit if smaller
@@ -281,6 +282,7 @@ struct ObstacleSweep {
     ens.droplet.area_stiffness = area_stiffness;
     ens.droplet.perimeter_stiffness = perimeter_ratio * ens.droplet.line_tension;
     ens.droplet.wall_energy = dp_wall_energy;
+    ens.droplet.edge_obstacle_contacts = edge_contacts;
     ens.droplet.near_wall_drag = near_wall_drag;
     ens.droplet.terminal_speed = terminal_speed;
     ens.droplet.dt = dt;

@@ -32,7 +32,8 @@ namespace mesoflow::pillars {
 
 // The paper's fluid (§2.5.1) with overrides; B < 0 takes the paper's 25 in 3D, 30 in 2D.
 inline mdpd::MdpdParameters pillar_fluid(int dim, double A, double B, double r_B, double R, double dt,
-                                         const std::string& density_kernel) {
+                                         const std::string& density_kernel,
+                                         const std::string& density_self_term = "off") {
   mdpd::MdpdParameters mp;
   mp.A = A;
   mp.B = B >= 0 ? B : (dim == 2 ? 30.0 : 25.0);
@@ -40,6 +41,7 @@ inline mdpd::MdpdParameters pillar_fluid(int dim, double A, double B, double r_B
   mp.R = R;
   mp.dt = dt;
   mp.density_kernel = mdpd::parse_density_kernel(density_kernel);
+  mp.density_self_term = mdpd::parse_density_self_term(density_self_term);
   mp.validate();
   return mp;
 }

@@ -45,6 +45,7 @@ struct PillarRunParameters {
   long long equilibrate_steps = 1000, warmup_steps = 5000, steps = 20000, sample_every = 10;
   double density = 6.0, A = -40, B = -1, r_B = 0.75, R = 12, dt = 0.01, k_S = 12.5;
   std::string density_kernel = "normalized", list = "half";
+  std::string density_self_term = "off";  // off: LAMMPS' mdpd/rhosum (no w_ρ(0) in ρ̄_i)
   long long seed = 2023;
   long long checkpoint_every = 10000;
   long long check_every = 100;  // steps between NaN-watchdog checks
@@ -54,7 +55,7 @@ struct PillarRunParameters {
 };
 
 inline mdpd::MdpdParameters pillar_fluid(const PillarRunParameters& par, int dim) {
-  return pillar_fluid(dim, par.A, par.B, par.r_B, par.R, par.dt, par.density_kernel);
+  return pillar_fluid(dim, par.A, par.B, par.r_B, par.R, par.dt, par.density_kernel, par.density_self_term);
 }
 
 // The stability limit of the fluid of `par` (pillar_stability), with the solids' tethers and cores.

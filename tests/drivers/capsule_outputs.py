@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """Runs small `capsule` scenes and checks what a user gets.
-  constriction sweep, Π = 8, Ca = 0.5 and 2, t_max 0.3 d/U: one sweep row per Ca with the effective
+  constriction sweep, Π = 8, Ca = 0.5 and 2, t_max 0.2 d/U: one sweep row per Ca with the effective
     η, a per-run series whose first sample has the capsule at x_c = 1.5 with D_x = D_y = D_z ≈ 1 and
     C_f ≈ C_r ≈ 1 within 10% (a sphere, level-3 mesh), the run's HDF5 file with the observables and membrane frames, the
     JSON's Pearson table (one entry per η), the plots; a second invocation with --restart reuses
@@ -22,7 +22,7 @@ exe, work = sys.argv[1], sys.argv[2]
 os.makedirs(work, exist_ok=True)
 out = os.path.join(work, "sweep.h5")
 base = [exe, "--threads", "2", "--output", out, "--resolution", "8", "--level", "3", "--ca", "0.5,2",
-        "--t-max", "0.3", "--sample-every", "0.05", "--frame-every", "0.1"]
+        "--t-max", "0.2", "--sample-every", "0.04", "--frame-every", "0.1"]
 
 
 def sweep_rows():
@@ -35,7 +35,7 @@ rows = sweep_rows()
 assert [float(r["ca"]) for r in rows] == [0.5, 2.0], rows
 for r in rows:
     assert float(r["eta_effective"]) == 0.5, r
-    assert r["status"].startswith("blocked (t-max)"), r  # 0.3 d/U: still in the inlet
+    assert r["status"].startswith("blocked (t-max)"), r  # 0.2 d/U: still in the inlet
     series = list(csv.DictReader(open(r["series_csv"])))
     assert len(series) >= 5, len(series)
     s0 = series[0]

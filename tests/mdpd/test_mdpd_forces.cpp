@@ -2,8 +2,11 @@
 // potential (normalized density weight), the density weights integrate to one, Newton's third law
 // holds to round-off with every term on (random and dissipative forces, WCA cores), half and full
 // neighbor lists give the same forces, the random force is pairwise symmetric and reproducible, a
-// zero coefficient removes its term, and the Lucy density matches LAMMPS' mdpd/rhosum formula.
+// zero coefficient removes its term, and the Lucy density matches LAMMPS' mdpd/rhosum formula: no
+// self term unless asked for (issue 28, item 6); densities and the conservative virial of a random
+// configuration against a brute-force sum over all pairs.
 #include "finite_difference.hpp"
+#include "kernels/mdpd/conservative_virial.hpp"
 #include "scenes/pillars/mdpd_system.hpp"
 #include "test_types.hpp"
 
@@ -95,8 +98,9 @@ TEST(MdpdConservativeForce, IsMinusTheGradientOfItsPotential2D) {
   check_conservative_gradient<2>(NeighborListKind::full);
 }
 
-// ∫ w_ρ dV = 1 for the normalized weight (2D and 3D); the Lucy weight too, and its self term is
-// w(0) = 105/(16π h³) (3D), 5/(π h²) (2D), LAMMPS' pair_mdpd_rhosum.cpp.
+// ∫ w_ρ dV = 1 for the normalized weight (2D and 3D); the Lucy weight too. The self term is off
+// unless asked for (LAMMPS' pair_mdpd_rhosum.cpp starts every ρ_i from zero); on, it is w(0):
+// 105/(16π h³) (3D Lucy), 5/(π h²) (2D Lucy), the prefactor of the normalized weight.
 TEST(MdpdDensityWeight, IntegratesToOne) {
   const double h = 0.75, pi = 3.14159265358979323846;
   for (auto kernel : {mdpd::DensityKernel::normalized, mdpd::DensityKernel::lucy}) {
@@ -114,9 +118,16 @@ TEST(MdpdDensityWeight, IntegratesToOne) {
   }
   using Weight3 = mdpd::DensityWeight<3, double>;
   using Weight2 = mdpd::DensityWeight<2, double>;
-  EXPECT_NEAR(Weight3(mdpd::DensityKernel::lucy, h).self, 105 / (16 * pi * h * h * h), 1e-12);
-  EXPECT_NEAR(Weight2(mdpd::DensityKernel::lucy, h).self, 5 / (pi * h * h), 1e-12);
+  const auto on = mdpd::DensitySelfTerm::on;
+  EXPECT_EQ(Weight3(mdpd::DensityKernel::lucy, h).self, 0.0);
+  EXPECT_EQ(Weight2(mdpd::DensityKernel::lucy, h).self, 0.0);
   EXPECT_EQ(Weight3(mdpd::DensityKernel::normalized, h).self, 0.0);
+  EXPECT_EQ(Weight2(mdpd::DensityKernel::normalized, h).self, 0.0);
+  EXPECT_NEAR(Weight3(mdpd::DensityKernel::lucy, h, on).self, 105 / (16 * pi * h * h * h), 1e-12);
+  EXPECT_NEAR(Weight2(mdpd::DensityKernel::lucy, h, on).self, 5 / (pi * h * h), 1e-12);
+  EXPECT_NEAR(Weight3(mdpd::DensityKernel::normalized, h, on).self, 15 / (2 * pi * h * h * h), 1e-12);
+  EXPECT_NEAR(Weight2(mdpd::DensityKernel::normalized, h, on).self, 6 / (pi * h * h), 1e-12);
+  EXPECT_EQ(MdpdParameters{}.density_self_term, mdpd::DensitySelfTerm::off);
 }
 
 template <class T>
@@ -216,27 +227,109 @@ TEST(MdpdPairForce, ZeroThermostatCoefficientsRemoveTheTerm) {
     for (int d = 0; d < 3; ++d) EXPECT_EQ(f0(i, d), f1(i, d));
 }
 
-// Lucy density of LAMMPS' mdpd/rhosum: a pair at r = h/2 in 3D gives ρ = w(0) + w(h/2),
-// w(r) = 105/(16π h³)(1 + 3r/h)(1 − r/h)³.
+// Lucy density of LAMMPS' mdpd/rhosum: a pair at r = h/2 in 3D gives ρ = w(h/2) by default, as
+// LAMMPS (rho[i] = 0, then Σ_{j≠i} w), w(r) = 105/(16π h³)(1 + 3r/h)(1 − r/h)³; with the self
+// term on, ρ = w(0) + w(h/2).
 TEST(MdpdDensityWeight, LucyPairDensityMatchesLammpsFormula) {
   using Exec = Kokkos::DefaultExecutionSpace;
-  MdpdParameters par;
-  par.density_kernel = mdpd::DensityKernel::lucy;
-  par.R = 0;
-  mdpd::MdpdOptions opt;
-  opt.sort_every = 0;
-  MdpdSystem<3, double, Exec> sys(par, Box<3, double>::cube(4.0, true), 1, opt);
-  sys.allocate(2);
-  auto x = Kokkos::create_mirror_view(sys.particles.x);
-  x(0, 0) = 1.0;
-  x(1, 0) = 1.0 + 0.375;
-  Kokkos::deep_copy(sys.particles.x, x);
-  sys.begin();
-  const auto rho = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sys.rho);
   const double pi = 3.14159265358979323846, h = 0.75, c = 105 / (16 * pi * h * h * h);
-  const double expected = c + c * (1 + 1.5) * 0.125;
-  EXPECT_NEAR(rho(0), expected, 1e-12);
-  EXPECT_NEAR(rho(1), expected, 1e-12);
+  const double pair = c * (1 + 1.5) * 0.125;
+  for (const bool self : {false, true}) {
+    MdpdParameters par;
+    par.density_kernel = mdpd::DensityKernel::lucy;
+    if (self) par.density_self_term = mdpd::DensitySelfTerm::on;
+    par.R = 0;
+    mdpd::MdpdOptions opt;
+    opt.sort_every = 0;
+    MdpdSystem<3, double, Exec> sys(par, Box<3, double>::cube(4.0, true), 1, opt);
+    sys.allocate(2);
+    auto x = Kokkos::create_mirror_view(sys.particles.x);
+    x(0, 0) = 1.0;
+    x(1, 0) = 1.0 + 0.375;
+    Kokkos::deep_copy(sys.particles.x, x);
+    sys.begin();
+    const auto rho = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sys.rho);
+    const double expected = (self ? c : 0.0) + pair;
+    EXPECT_NEAR(rho(0), expected, 1e-12) << "self term " << (self ? "on" : "off");
+    EXPECT_NEAR(rho(1), expected, 1e-12) << "self term " << (self ? "on" : "off");
+  }
+}
+
+// ρ̄_i of a random configuration (ρ = 6, periodic) against a brute-force host sum over all pairs
+// under the minimum image with the weights written out (not DensityWeight): both kernels, both
+// lists, 3D and 2D, with and without the self term; the default parameters give no self term. The
+// conservative virial Σ_{i<j} r f^C(r) against the same brute-force pairs.
+template <int D>
+void check_density_brute_force(mdpd::DensityKernel kernel, mdpd::DensitySelfTerm self, bool use_defaults,
+                               NeighborListKind kind) {
+  using Exec = Kokkos::DefaultExecutionSpace;
+  MdpdParameters par;
+  par.R = 0;
+  par.density_kernel = kernel;
+  if (!use_defaults) par.density_self_term = self;
+  if (D == 2) par.B = 30;
+  const double L = 3.0, pi = 3.14159265358979323846, h = par.r_B;
+  const int n = D == 2 ? 54 : 162;
+  auto sys = random_system<D, double, Exec>(par, L, n, 11, kind);
+  sys.begin();
+  const bool lucy = kernel == mdpd::DensityKernel::lucy;
+  const double hd = D == 2 ? h * h : h * h * h;
+  const double c = (lucy ? (D == 2 ? 5 / pi : 105 / (16 * pi)) : (D == 2 ? 6 / pi : 15 / (2 * pi))) / hd;
+  const auto w = [&](double r) {
+    const double s = 1 - r / h;
+    return lucy ? c * (1 + 3 * r / h) * s * s * s : c * s * s;
+  };
+  const auto x = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sys.particles.x);
+  const double self_weight = self == mdpd::DensitySelfTerm::on ? c : 0.0;
+  std::vector<double> rho(n, self_weight), dist;
+  std::vector<std::pair<int, int>> pairs;
+  for (int i = 0; i < n; ++i)
+    for (int j = i + 1; j < n; ++j) {
+      double r2 = 0;
+      for (int d = 0; d < D; ++d) {
+        double dx = x(i, d) - x(j, d);
+        dx -= L * std::round(dx / L);
+        r2 += dx * dx;
+      }
+      const double r = std::sqrt(r2);
+      if (r < h) {
+        rho[i] += w(r);
+        rho[j] += w(r);
+      }
+      if (r < par.r_A) {
+        pairs.push_back({i, j});
+        dist.push_back(r);
+      }
+    }
+  const auto got = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sys.rho);
+  double max_err = 0;
+  for (int i = 0; i < n; ++i) max_err = std::max(max_err, std::abs(got(i) - rho[i]));
+  EXPECT_LT(max_err, 1e-10) << D << "D, kernel " << (lucy ? "lucy" : "normalized") << ", self term "
+                            << mdpd::to_string(self) << (use_defaults ? " (default)" : "");
+  double virial = 0;
+  for (std::size_t k = 0; k < pairs.size(); ++k) {
+    const double r = dist[k];
+    double f = par.A * (1 - r / par.r_A);
+    if (r < par.r_B) f += par.B * (rho[pairs[k].first] + rho[pairs[k].second]) * (1 - r / par.r_B);
+    virial += r * f;
+  }
+  const double got_virial = mdpd::conservative_virial(par, sys.particles.x, sys.rho, sys.neighbor_list(), sys.box());
+  EXPECT_NEAR(got_virial, virial, 1e-9 * std::abs(virial)) << D << "D virial";
+}
+
+TEST(MdpdDensity, MatchesBruteForceWithAndWithoutSelfTerm) {
+  using mdpd::DensityKernel;
+  using mdpd::DensitySelfTerm;
+  for (auto kind : {NeighborListKind::half, NeighborListKind::full})
+    for (auto kernel : {DensityKernel::lucy, DensityKernel::normalized}) {
+      // Defaults: no self term (LAMMPS' mdpd/rhosum); this fails if a self term comes back by default.
+      check_density_brute_force<3>(kernel, DensitySelfTerm::off, true, kind);
+      check_density_brute_force<2>(kernel, DensitySelfTerm::off, true, kind);
+      for (auto self : {DensitySelfTerm::off, DensitySelfTerm::on}) {
+        check_density_brute_force<3>(kernel, self, false, kind);
+        check_density_brute_force<2>(kernel, self, false, kind);
+      }
+    }
 }
 
 // Tethers: F = −k_S (x − s) is minus the gradient of ½ k_S |x − s|² (minimum image across the
@@ -290,6 +383,14 @@ TEST(MdpdParameters, BadInputNamesTheParameter) {
   par.dt = std::nan("");
   EXPECT_THROW(par.validate(), std::invalid_argument);
   EXPECT_THROW(mdpd::parse_density_kernel("gaussian"), std::invalid_argument);
+  EXPECT_EQ(mdpd::parse_density_self_term("off"), mdpd::DensitySelfTerm::off);
+  EXPECT_EQ(mdpd::parse_density_self_term("on"), mdpd::DensitySelfTerm::on);
+  try {
+    mdpd::parse_density_self_term("yes");
+    FAIL() << "density self term 'yes' accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("density self term"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace
