@@ -22,7 +22,7 @@ exe, work = sys.argv[1], sys.argv[2]
 os.makedirs(work, exist_ok=True)
 out = os.path.join(work, "sweep.h5")
 base = [exe, "--threads", "2", "--output", out, "--resolution", "8", "--level", "3", "--ca", "0.5,2",
-        "--t-max", "0.2", "--sample-every", "0.04", "--frame-every", "0.1"]
+        "--t-max", "0.2", "--sample-every", "0.04", "--frame-every", "0.05"]
 
 
 def sweep_rows():
