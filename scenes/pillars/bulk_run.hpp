@@ -36,8 +36,8 @@ class BulkRun {
   // started at rest; g(r) in bins of rdf_bin up to rdf_max (at most half the shortest edge).
   BulkRun(const PillarRunParameters& par, double rdf_max, double rdf_bin)
       : mp_(pillar_fluid(par, D)),
-        geometry_(checked_geometry(par)),
-        sys_(mp_, periodic_box<D>(geometry_), std::uint64_t(par.seed), options(par)) {
+        geometry_(periodic_run_geometry<D>(par, 2.4)),
+        sys_(mp_, periodic_box<D>(geometry_), std::uint64_t(par.seed), periodic_run_options(par)) {
     fill_fluid(sys_, geometry_, par.density, std::uint64_t(par.seed));
     sys_.begin();
     const double shortest = D == 3 ? std::min({geometry_.Lx, geometry_.Ly, geometry_.Lz})
@@ -130,24 +130,11 @@ class BulkRun {
   }
 
  private:
-  static SceneGeometry checked_geometry(const PillarRunParameters& par) {
-    SceneGeometry geometry;
-    geometry.dim = D;
-    geometry.Lx = par.box;
-    geometry.Ly = D == 3 ? par.box : par.lz;
-    geometry.Lz = D == 3 ? par.lz : 0.0;
-    if (par.box < 2.4 || par.lz < 2.4) throw std::invalid_argument("--box and --lz must be >= 2.4 (σ)");
-    return geometry;
-  }
-  static mdpd::MdpdOptions options(const PillarRunParameters& par) {
-    mdpd::MdpdOptions opt;
-    opt.list_kind = par.list == "full" ? NeighborListKind::full : NeighborListKind::half;
-    return opt;
-  }
-
   // Counts every pair (i < j) at minimum-image distance < rdf_max_ into hist (host, O(N²)).
-  void add_pair_histogram(std::vector<double>& hist) const {
-    const auto x = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), sys_.particles.x);
+  void add_pair_histogram(std::vector<double>& hist) {
+    if (x_host_.extent(0) != sys_.particles.x.extent(0)) x_host_ = Kokkos::create_mirror_view(sys_.particles.x);
+    Kokkos::deep_copy(x_host_, sys_.particles.x);  // no copy on host backends (the mirror is the view)
+    const auto x = x_host_;
     const int n = int(x.extent(0));
     const double L[3] = {geometry_.Lx, geometry_.Ly, geometry_.Lz};
     const double max2 = rdf_max_ * rdf_max_;
@@ -169,6 +156,7 @@ class BulkRun {
   SceneGeometry geometry_;
   System sys_;
   typename System::vector_view v_half_;
+  typename System::vector_view::HostMirror x_host_;  // positions for g(r), allocated once
   double rdf_max_ = 0, rdf_bin_ = 0.02;
   int rdf_bins_ = 1;
 };

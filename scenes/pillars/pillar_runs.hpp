@@ -18,6 +18,7 @@
 #include <cstdint>
 #include <functional>
 #include <optional>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -165,6 +166,30 @@ class FlowRecording {
   std::function<void(long long)> progress_;
 };
 
+// The fully periodic box of the viscosity and bulk runs: edges --box along x (and y in 3D) and --lz
+// along the last axis; refused (naming both) below 2.4σ, or the last edge below `min_last_edge`.
+template <int D>
+SceneGeometry periodic_run_geometry(const PillarRunParameters& par, double min_last_edge) {
+  SceneGeometry geometry;
+  geometry.dim = D;
+  geometry.Lx = par.box;
+  geometry.Ly = D == 3 ? par.box : par.lz;
+  geometry.Lz = D == 3 ? par.lz : 0.0;
+  if (par.box < 2.4 || par.lz < min_last_edge) {
+    std::ostringstream m;
+    m << "--box must be >= 2.4 and --lz >= " << min_last_edge << " (σ), got " << par.box << " and " << par.lz;
+    throw std::invalid_argument(m.str());
+  }
+  return geometry;
+}
+
+// The pair-loop options of those runs: the neighbor list kind of --list.
+inline mdpd::MdpdOptions periodic_run_options(const PillarRunParameters& par) {
+  mdpd::MdpdOptions opt;
+  opt.list_kind = par.list == "full" ? NeighborListKind::full : NeighborListKind::half;
+  return opt;
+}
+
 // Periodic Poiseuille viscosity (Backer et al. 2005) in a fully periodic box: the fluid of `par`,
 // edges --box along x (and y in 3D) and --lz along the gradient (the last axis), force ±f_b
 // (0.5 by default), the fluid filled at --density and started.
@@ -176,8 +201,8 @@ class ViscosityRun {
   explicit ViscosityRun(const PillarRunParameters& par)
       : mp_(pillar_fluid(par, D)),
         force_(par.fb >= 0 ? par.fb : 0.5),
-        geometry_(checked_geometry(par)),
-        sys_(mp_, periodic_box<D>(geometry_), std::uint64_t(par.seed), options(par)) {
+        geometry_(periodic_run_geometry<D>(par, 4.8)),
+        sys_(mp_, periodic_box<D>(geometry_), std::uint64_t(par.seed), periodic_run_options(par)) {
     fill_fluid(sys_, geometry_, par.density, std::uint64_t(par.seed));
     sys_.begin();
     bins_ = std::max(4, int(std::lround(gradient_length() / par.bin_width)) / 2 * 2);
@@ -201,21 +226,6 @@ class ViscosityRun {
   }
 
  private:
-  static SceneGeometry checked_geometry(const PillarRunParameters& par) {
-    SceneGeometry geometry;
-    geometry.dim = D;
-    geometry.Lx = par.box;
-    geometry.Ly = D == 3 ? par.box : par.lz;
-    geometry.Lz = D == 3 ? par.lz : 0.0;
-    const double Lzz = D == 3 ? geometry.Lz : geometry.Ly;
-    if (par.box < 2.4 || Lzz < 4.8) throw std::invalid_argument("--box must be >= 2.4 and --lz >= 4.8 (σ)");
-    return geometry;
-  }
-  static mdpd::MdpdOptions options(const PillarRunParameters& par) {
-    mdpd::MdpdOptions opt;
-    opt.list_kind = par.list == "full" ? NeighborListKind::full : NeighborListKind::half;
-    return opt;
-  }
 
   mdpd::MdpdParameters mp_;
   double force_;
