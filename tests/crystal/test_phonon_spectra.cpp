@@ -26,7 +26,8 @@
 
 #include "io/hdf5_util.hpp"
 
-namespace mesoflow::crystal {
+// Own namespace: this file shares a unity translation unit with others (tests/CMakeLists.txt).
+namespace mesoflow::crystal::phonon_spectra_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -481,4 +482,4 @@ TEST(PhononOutput, Hdf5AndCsvRoundTrip) {
 }
 
 }  // namespace
-}  // namespace mesoflow::crystal
+}  // namespace mesoflow::crystal::phonon_spectra_test

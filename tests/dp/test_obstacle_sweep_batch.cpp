@@ -11,7 +11,8 @@
 #include <map>
 #include <vector>
 
-namespace mesoflow::droplets {
+// Own namespace: this file shares a unity translation unit with others (tests/CMakeLists.txt).
+namespace mesoflow::droplets::obstacle_sweep_batch_test {
 namespace {
 
 bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
@@ -211,4 +212,4 @@ TEST(VelocityVerlet, PerParticleTimeStepsAreBitwiseTheUniformOnes) {
 }
 
 }  // namespace
-}  // namespace mesoflow::droplets
+}  // namespace mesoflow::droplets::obstacle_sweep_batch_test

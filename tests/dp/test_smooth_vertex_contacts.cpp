@@ -14,7 +14,8 @@
 #include <random>
 #include <vector>
 
-namespace mesoflow::dp {
+// Own namespace: this file shares a unity translation unit with others (tests/CMakeLists.txt).
+namespace mesoflow::dp::smooth_vertex_contacts_test {
 namespace {
 
 using Exec = Kokkos::DefaultExecutionSpace;
@@ -160,4 +161,4 @@ TYPED_TEST(SmoothVertexContactsTest, RefusesListsThatCannotHoldTheContacts) {
 }
 
 }  // namespace
-}  // namespace mesoflow::dp
+}  // namespace mesoflow::dp::smooth_vertex_contacts_test

@@ -15,7 +15,8 @@
 #include <random>
 #include <vector>
 
-namespace mesoflow::dp {
+// Own namespace: this file shares a unity translation unit with others (tests/CMakeLists.txt).
+namespace mesoflow::dp::vertex_contacts_test {
 namespace {
 
 using Exec = Kokkos::DefaultExecutionSpace;
@@ -163,4 +164,4 @@ TYPED_TEST(VertexContactsTest, RefuseAListThatCountsPairsWithinAParticle) {
 }
 
 }  // namespace
-}  // namespace mesoflow::dp
+}  // namespace mesoflow::dp::vertex_contacts_test

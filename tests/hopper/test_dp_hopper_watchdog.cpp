@@ -11,7 +11,8 @@
 #include <iostream>
 #include <string>
 
-namespace mesoflow::hopper {
+// Own namespace: this file shares a unity translation unit with others (tests/CMakeLists.txt).
+namespace mesoflow::hopper::dp_hopper_watchdog_test {
 namespace {
 
 using Exec = Kokkos::DefaultExecutionSpace;
@@ -70,4 +71,4 @@ TEST(DpHopperWatchdog, StopsAHopperForcedAboveItsStabilityLimitAtTheStepAPlainRu
 }
 
 }  // namespace
-}  // namespace mesoflow::hopper
+}  // namespace mesoflow::hopper::dp_hopper_watchdog_test

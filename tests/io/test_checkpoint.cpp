@@ -17,7 +17,8 @@
 #include "io/checkpoint.hpp"
 #include "io/h5md_writer.hpp"
 
-namespace {
+// Named: this file shares a unity translation unit with test_h5md.cpp (tests/CMakeLists.txt).
+namespace checkpoint_test {
 
 namespace fs = std::filesystem;
 using namespace mesoflow::io;
@@ -272,4 +273,4 @@ TEST(Checkpoint, LeavesNoHdf5IdentifierOpen) {
   EXPECT_EQ(H5Fget_obj_count(H5F_OBJ_ALL, H5F_OBJ_ALL), 0);
 }
 
-}  // namespace
+}  // namespace checkpoint_test

@@ -14,7 +14,8 @@
 #include <string>
 #include <vector>
 
-namespace mesoflow::pillars {
+// Own namespace: this file shares a unity translation unit with others (tests/CMakeLists.txt).
+namespace mesoflow::pillars::permeability_theory_test {
 namespace {
 
 constexpr double pi = 3.14159265358979323846;
@@ -310,4 +311,4 @@ TEST(DarcyLine, SlopeErrorCoversTheTruthAtTheStudentTRate) {
 }
 
 }  // namespace
-}  // namespace mesoflow::pillars
+}  // namespace mesoflow::pillars::permeability_theory_test
