@@ -16,6 +16,9 @@
 //   Pearson's r of each against Ca (eq. 17, Table 1).
 // --mode shear (§4.1): the capsule in a 5d × 4d × 4d box (--shear-box), walls bounding y sliding at
 //   ∓V; D_xy and the inclination θ/π, steady values averaged over the last 30% of --t-max.
+// --mode moduli: no run; <out>.json holds the membrane's moduli per k_b (the network's G_s and K_A,
+//   measured on a patch at the mesh's h_t/δ_ave, and §4's formula) and how Ca converts between the two
+//   definitions (--shear-modulus; issue 29 item 1). Every run's summary carries the same block.
 //
 // Output, for --output <out>.h5: per run <out>_ca<Ca>_eta<η>.h5 (H5MD: the membrane's positions
 // every --frame-every, the measures as observables, the parameters) with its .xdmf, _series.csv
@@ -106,6 +109,32 @@ capsule::RunResult run_constriction(const Parameters& par, const cli::DriverApp&
   return r;
 }
 
+// The membrane's moduli per unit k_b and how the two definitions of Ca convert (issue 29 item 1):
+// Ca_paper = Ca_network · G_s,network/G_s,paper at the same k_b.
+cli::Json membrane_summary(const Parameters& par) {
+  const auto m = capsule::membrane_moduli_per_bond(par);
+  return cli::Json{{"shear_modulus_definition", par.shear_modulus},
+                   {"thickness_over_spacing", m.thickness_over_spacing},
+                   {"shear_modulus_network_over_k_b", m.shear_network},
+                   {"area_modulus_network_over_k_b", m.area_network},
+                   {"shear_modulus_paper_formula_over_k_b", m.shear_paper},
+                   {"ca_paper_formula_over_ca_network", m.shear_network / m.shear_paper}};
+}
+
+// --mode moduli: the membrane block alone, with the formula's inputs, for docs and scripts.
+void moduli_summary(const Parameters& par, const cli::DriverApp& app) {
+  const driver::OutputPaths out(app.output());
+  const auto m = capsule::membrane_moduli_per_bond(par);
+  cli::Json j{{"driver", "capsule"}, {"mode", "moduli"}, {"resolution", par.resolution}, {"thickness", par.thickness},
+              {"level", par.level}, {"diagonals", par.diagonals}, {"membrane", membrane_summary(par)},
+              {"kokkos", kokkos_configuration()}};
+  cli::write_summary(out.summary, j);
+  if (!app.quiet())
+    std::cerr << "capsule moduli: h_t/delta_ave " << m.thickness_over_spacing << ", network G_s " << m.shear_network
+              << " k_b, K_A " << m.area_network << " k_b; paper formula G_s " << m.shear_paper
+              << " k_b; Ca(formula) = " << m.shear_network / m.shear_paper << " Ca(network)\n";
+}
+
 void constriction_sweep(const Parameters& par, const cli::DriverApp& app) {
   const driver::OutputPaths out(app.output());
   const std::string stem = out.trajectory.substr(0, out.trajectory.size() - 3);
@@ -128,6 +157,7 @@ void constriction_sweep(const Parameters& par, const cli::DriverApp& app) {
   // Pearson's r against Ca per η (eq. 17, Table 1).
   cli::Json j{{"driver", "capsule"}, {"mode", "constriction"}, {"resolution", par.resolution},
               {"reynolds", par.reynolds}, {"runs", results.size()}, {"kokkos", kokkos_configuration()}};
+  j["membrane"] = membrane_summary(par);
   j["pearson_r"] = cli::Json::array();
   for (const auto& [eta, columns] : capsule::pearson_table(results, etas)) {
     cli::Json row{{"eta", eta}};
@@ -182,6 +212,9 @@ void shear_runs(const Parameters& par, const cli::DriverApp& app) {
                 << " s)\n";
   }
   driver::write_atomically(stem + "_shear.csv", table.str());
+  cli::write_summary(out.summary, cli::Json{{"driver", "capsule"}, {"mode", "shear"}, {"resolution", par.resolution},
+                                            {"reynolds", par.reynolds}, {"runs", cas.size()},
+                                            {"membrane", membrane_summary(par)}, {"kokkos", kokkos_configuration()}});
   driver::plot_with_matplotlib("capsule", "plot_capsule.py", {"shear", stem + "_shear.csv", stem + "_shear.png"},
                                stem + "_shear.png", app.quiet());
 }
@@ -194,7 +227,13 @@ int main(int argc, char** argv) {
   mesoflow::Parameters par;
   mesoflow::cli::DriverApp app("SPH microcapsule through a constriction, or in simple shear (DMP: SPH + mass-spring membrane)",
                                "capsule.h5");
-  app.add_choice("--mode", par.mode, "constriction (§3-§5) or shear (§4.1 validation)", {"constriction", "shear"});
+  app.add_choice("--shear-modulus", par.shear_modulus,
+                 "G_s in Ca: network (measured on a patch of this membrane network) or paper (E h_t/(2(1+nu)), "
+                 "E = 5 k_b/(sqrt(3) delta), nu = 1/4)",
+                 {"network", "paper"});
+  app.add_choice("--mode", par.mode,
+                 "constriction (§3-§5), shear (§4.1 validation) or moduli (the membrane's G_s and K_A only, no run)",
+                 {"constriction", "shear", "moduli"});
   app.add_int("--resolution", par.resolution, "lattice spacings per capsule diameter d (paper: 56)", 6, 128);
   app.add_string("--ca", par.ca, "capillary number(s) Ca = mu U a/G_s, comma-separated, each in (0, 100]")
       ->check(mesoflow::cli::number_list_check("--ca", 0.0, 100.0));
@@ -237,7 +276,9 @@ int main(int argc, char** argv) {
               1, 1000000);
   return app.run(argc, argv, [&] {
     mesoflow::KokkosScope kokkos(par.threads);
-    if (par.mode == "shear")
+    if (par.mode == "moduli")
+      mesoflow::moduli_summary(par, app);
+    else if (par.mode == "shear")
       mesoflow::shear_runs(par, app);
     else
       mesoflow::constriction_sweep(par, app);

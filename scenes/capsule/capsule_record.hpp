@@ -36,7 +36,9 @@ class ConstrictionRecord {
     const std::pair<const char*, double> parameters[] = {
         {"ca_run", ca}, {"eta_run", eta}, {"eta_effective", run.channel().constriction_width / d},
         {"diameter_lattice", d}, {"viscosity", phys.mu}, {"surface_shear_modulus", phys.G_s}, {"k_b", phys.k_b},
-        {"c0", phys.c0}, {"dt", dt}};
+        {"c0", phys.c0}, {"dt", dt}, {"surface_shear_modulus_network", phys.G_s_network},
+        {"area_modulus_network", phys.K_A_network}, {"surface_shear_modulus_paper_formula", phys.G_s_paper},
+        {"ca_network", phys.ca_network}, {"ca_paper_formula", phys.ca_paper}};
     for (const auto& [key, value] : parameters) h5_.set_parameter(key, value);
     h5_.set_parameter("particles", scene.num_particles());
     h5_.set_parameter("membrane_particles", scene.num_membrane());

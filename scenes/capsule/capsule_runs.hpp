@@ -5,7 +5,12 @@
 //
 // Units (§4): lattice units Δx = ρ0 = U = 1, capsule diameter d = Π Δx, the viscosity from Re,
 //   constriction: Re = ρ0 U d/μ;   shear: Re = ρ0 γ̇ a²/μ, γ̇ = 2V/L_y with V = 1 the walls' speed;
-// the membrane's k_b from Ca = μ U a/G_s (shear: μ γ̇ a/G_s) through kernels/msm/membrane_moduli.hpp.
+// the membrane's k_b from Ca = μ U a/G_s (shear: μ γ̇ a/G_s). G_s is the shear modulus of *our*
+// network (shear_modulus = "network", the default; issue 29 item 1): measured on a flat periodic
+// patch of the same network at the run's h_t/δ_ave (membrane_elasticity.hpp), so k_b = G_s/(G_s/k_b).
+// shear_modulus = "paper" keeps §4's formula G_s = E h_t/(2(1 + ν)), E = 5 k_b/(√3 δ_ave), ν = 1/4
+// (kernels/msm/membrane_moduli.hpp), which the runs before issue 29 used; both capillary numbers are
+// recorded with every run (Physical::ca_network, ca_paper), so either converts into the other.
 // c0 of eq. (6) for density variations δ: the largest of Morris et al.'s viscous criterion
 // √(ν U/(L δ)) (with U/√δ), their body-force criterion √(2 g₀ L_x/δ) for the pressure drop at twice
 // the starting body force, and the membrane's √(Δp/(ρ0 δ)), Δp = 2 G_s ε/a at strain ε.
@@ -23,6 +28,7 @@
 
 #include "kernels/common/kernel_launch.hpp"
 #include "kernels/msm/membrane_moduli.hpp"
+#include "scenes/capsule/membrane_elasticity.hpp"
 #include "kernels/sph/tait_equation_of_state.hpp"
 #include "scenes/capsule/capsule_scene.hpp"
 #include "scenes/capsule/channel_geometry.hpp"
@@ -50,6 +56,7 @@ struct CapsuleRunParameters {
   double thickness = 1.0;             // h_t/Δx
   int level = 3;
   std::string diagonals = "one";
+  std::string shear_modulus = "network";  // G_s of Ca: "network" (measured) or "paper" (§4's formula)
   double support = 2.5;               // Lucy support h/Δx
   std::string walls = "morris";
   double viscosity_ratio = 1.0;
@@ -82,6 +89,9 @@ inline std::string scene_signature(const CapsuleRunParameters& par, double ca, d
     << ";stall=" << par.stall_window;
   if (par.dt > 0) s << ";dt=" << par.dt;
   if (par.deterministic) s << ";lists=full";
+  // The runs before issue 29 used the paper's G_s and wrote no tag: their files stay reusable with
+  // --shear-modulus paper.
+  if (par.shear_modulus != "paper") s << ";Gs=" << par.shear_modulus;
   return s.str();
 }
 
@@ -95,7 +105,38 @@ inline std::string shear_signature(const CapsuleRunParameters& par, double ca) {
 // The scene's physical parameters (lattice units).
 struct Physical {
   double d, a, mu, G_s, k_b, c0, shear_rate = 0;
+  // The membrane's moduli at this k_b: G_s and K_A of the network (measured), G_s of §4's formula,
+  // and the capillary number under each definition (the run's Ca is the one par.shear_modulus names).
+  double G_s_network = 0, K_A_network = 0, G_s_paper = 0, ca_network = 0, ca_paper = 0, thickness_over_spacing = 0;
 };
+
+// The membrane's moduli per unit k_b for the run's mesh (radius Π/2, h_t, level, diagonals): G_s and
+// K_A of the network, measured on a patch at the mesh's h_t/δ_ave (membrane_elasticity.hpp), and
+// G_s of §4's formula, E h_t/(2(1 + ν)) with E = 5 k_b/(√3 δ_ave), ν = 1/4. All three scale with k_b.
+struct MembraneModuliPerBond {
+  double thickness_over_spacing = 0;  // h_t/δ_ave
+  double shear_network = 0, area_network = 0, shear_paper = 0;
+};
+
+inline MembraneModuliPerBond membrane_moduli_per_bond(const CapsuleRunParameters& par) {
+  if (par.shear_modulus != "network" && par.shear_modulus != "paper")
+    throw std::invalid_argument("capsule: --shear-modulus must be network or paper, got '" + par.shear_modulus + "'");
+  // δ_ave of the mesh: build it once to measure (cheap next to the run).
+  msm::CapsuleMembraneParameters mp;
+  mp.radius = 0.5 * par.resolution;
+  mp.thickness = par.thickness;
+  mp.level = par.level;
+  mp.bonds.k_b = 1;
+  mp.bonds.diagonals = par.diagonals == "both" ? msm::DiagonalBonds::both_per_quad : msm::DiagonalBonds::one_per_quad;
+  const double bond_length = msm::capsule_membrane(mp).mean_in_layer_bond_length();
+  MembraneModuliPerBond m;
+  m.thickness_over_spacing = par.thickness / bond_length;
+  const auto network = measure_membrane_moduli(m.thickness_over_spacing, mp.bonds.diagonals);
+  m.shear_network = network.shear;
+  m.area_network = network.area;
+  m.shear_paper = msm::surface_shear_modulus(1.0, bond_length, par.thickness);
+  return m;
+}
 
 inline CapsuleSceneParameters scene_parameters(const CapsuleRunParameters& par, const ChannelGeometry& g, double ca,
                                                double velocity_scale_length, double pressure_drop, Physical& phys) {
@@ -123,15 +164,14 @@ inline CapsuleSceneParameters scene_parameters(const CapsuleRunParameters& par, 
     strain_rate_length = 1.0 * phys.a;
   }
   phys.G_s = phys.mu * strain_rate_length / ca;
-  // δ_ave of the mesh: build it once to measure (cheap next to the run).
-  msm::CapsuleMembraneParameters mp;
-  mp.radius = phys.a;
-  mp.thickness = par.thickness;
-  mp.level = par.level;
-  mp.bonds.k_b = 1;
-  mp.bonds.diagonals = sp.diagonals;
-  const double bond_length = msm::capsule_membrane(mp).mean_in_layer_bond_length();
-  phys.k_b = msm::bond_stiffness_for_shear_modulus(phys.G_s, bond_length, par.thickness);
+  const auto moduli = membrane_moduli_per_bond(par);
+  phys.thickness_over_spacing = moduli.thickness_over_spacing;
+  phys.k_b = phys.G_s / (par.shear_modulus == "paper" ? moduli.shear_paper : moduli.shear_network);
+  phys.G_s_network = moduli.shear_network * phys.k_b;
+  phys.K_A_network = moduli.area_network * phys.k_b;
+  phys.G_s_paper = moduli.shear_paper * phys.k_b;
+  phys.ca_network = phys.mu * strain_rate_length / phys.G_s_network;
+  phys.ca_paper = phys.mu * strain_rate_length / phys.G_s_paper;
   sp.k_b = phys.k_b;
   sp.mu_outer = phys.mu;
   sp.mu_inner = phys.mu * par.viscosity_ratio;

@@ -4,6 +4,7 @@
 // the shear-plane Taylor deformation and inclination, Pearson's r (eq. 17); and the constriction
 // scene: walls stay put, the capsule starts where asked and the state stays finite.
 #include "scenes/capsule/capsule_scene.hpp"
+#include "scenes/capsule/capsule_runs.hpp"
 #include "analysis/capsule/capsule_shape.hpp"
 #include "scenes/capsule/channel_geometry.hpp"
 #include "kernels/msm/capsule_mesh.hpp"
@@ -19,6 +20,36 @@ constexpr double pi = 3.14159265358979323846;
 
 // Square duct: u_max/ū = 2.0963 (Shah & London 1978, Table of rectangular ducts: ū/u_max = 0.4770
 // at aspect 1); a very flat duct tends to plane Poiseuille, ū = G h²/(12 μ) and u_max/ū = 3/2.
+// One definition of Ca (issue 29 item 1): with --shear-modulus network (the default) the run's k_b
+// gives the network the shear modulus μ γ̇ a/Ca, measured on a patch at the mesh's h_t/δ; with
+// paper, §4's formula does; both capillary numbers are recorded and convert by the moduli's ratio.
+TEST(CapsuleRuns, CapillaryNumberUsesTheNetworksMeasuredShearModulus) {
+  capsule::CapsuleRunParameters par;
+  par.mode = "shear";
+  par.resolution = 8;
+  par.reynolds = 0.5;
+  const double ca = 0.3;
+  const double d = par.resolution;
+  const auto g = capsule::shear_channel({par.shear_box_x * d, par.shear_box_y * d, par.shear_box_z * d}, 1.0);
+  capsule::Physical network{}, paper{};
+  capsule::scene_parameters(par, g, ca, 1.0, 0.0, network);
+  par.shear_modulus = "paper";
+  capsule::scene_parameters(par, g, ca, 1.0, 0.0, paper);
+  EXPECT_NEAR(network.ca_network, ca, 1e-12 * ca);
+  EXPECT_NEAR(paper.ca_paper, ca, 1e-12 * ca);
+  // Same μ and γ̇, so the k_b differ by the ratio of the two moduli per k_b.
+  EXPECT_EQ(network.mu, paper.mu);
+  EXPECT_NEAR(network.k_b / paper.k_b, paper.G_s_paper / paper.G_s_network, 1e-12);
+  EXPECT_NEAR(paper.ca_network / paper.ca_paper, paper.G_s_paper / paper.G_s_network, 1e-12);
+  EXPECT_GT(network.K_A_network, network.G_s_network);
+  std::printf("[ capsule ] Π = 8, h_t = Δx, level 3: h_t/δ_ave = %.3f, G_s(network)/G_s(§4 formula) = %.4f, "
+              "K_A/G_s = %.3f; Ca %.2f under the formula is Ca %.4f of the network\n",
+              network.thickness_over_spacing, paper.G_s_network / paper.G_s_paper,
+              network.K_A_network / network.G_s_network, ca, paper.ca_network);
+  par.shear_modulus = "thickness";
+  EXPECT_THROW(capsule::membrane_moduli_per_bond(par), std::invalid_argument);
+}
+
 TEST(CapsuleChannel, RectangularDuctLimits) {
   const auto square = rectangular_duct(1.0, 1.0);
   EXPECT_NEAR(square.peak_to_mean(), 1 / 0.4770, 2e-3);

@@ -8,6 +8,7 @@
 #include "kernels/common/fire.hpp"
 #include "kernels/msm/capsule_mesh.hpp"
 #include "kernels/msm/harmonic_bonds.hpp"
+#include "scenes/capsule/membrane_elasticity.hpp"
 #include "test_types.hpp"
 
 #include <algorithm>
@@ -510,6 +511,51 @@ TEST(MsmMembraneElasticity, PaperBondCountGivesItsOwnLinearElasticityNotThePaper
               E * delta / k_b, E_network * delta / k_b, E_paper * delta / k_b, E / E_paper, nu, nu / 0.25);
   EXPECT_NEAR(E / E_network, 1.0, 0.01);
   EXPECT_NEAR(nu * 3, 1.0, 0.01);
+}
+
+
+// The moduli the capsule driver uses for Ca (scenes/capsule/membrane_elasticity.hpp, issue 29 item 1):
+// area and shear moduli from equibiaxial and pure-shear strains of the patch. The crossed network at
+// h_t = δ has, from the Cauchy–Born calculation above, μ = 2k_b/√3 and λ = 4k_b/(3√3): G_s = μ and
+// K_A = λ + μ = 10k_b/(3√3), and these with E_2D and ν measured by the uniaxial test obey the
+// isotropic relations E_2D = 4K_A G_s/(K_A + G_s), ν = (K_A − G_s)/(K_A + G_s).
+TEST(MsmMembraneElasticity, MeasuredShearAndAreaModuliOfTheCrossedNetwork) {
+  const auto m = capsule::measure_membrane_moduli(1.0, DiagonalBonds::both_per_quad);
+  const double s3 = std::sqrt(3.0);
+  std::printf("[ msm ] both diagonals, h_t = δ: G_s = %.5f k_b (theory 2/√3 = %.5f), K_A = %.5f k_b (theory "
+              "10/(3√3) = %.5f), E_2D = %.5f, ν = %.5f\n",
+              m.shear, 2 / s3, m.area, 10 / (3 * s3), m.young, m.poisson);
+  EXPECT_NEAR(m.shear / (2 / s3), 1.0, 0.01);
+  EXPECT_NEAR(m.area / (10 / (3 * s3)), 1.0, 0.01);
+  EXPECT_NEAR(m.young / (4 * m.area * m.shear / (m.area + m.shear)), 1.0, 0.01);
+  EXPECT_NEAR(m.poisson, (m.area - m.shear) / (m.area + m.shear), 0.01);
+}
+
+// The paper's count (one diagonal per quad) at the capsule runs' h_t/δ: its G_s is not §4's
+// E h_t/(2(1 + ν)) — the network's moduli do not grow with h_t as that formula does — and the ratio
+// is what converts the capillary numbers of runs made with the formula (docs/sph-capsules.md).
+TEST(MsmMembraneElasticity, PaperCountShearModulusAgainstTheFormulaAcrossThickness) {
+  const double s3 = std::sqrt(3.0);
+  double previous_ratio = 0;
+  for (double h : {0.5, 1.0, 2.0}) {
+    const auto m = capsule::measure_membrane_moduli(h, DiagonalBonds::one_per_quad);
+    const double formula = 5.0 / s3 * h / (2 * 1.25);  // G_s/k_b of §4 at δ = 1
+    const double ratio = m.shear / formula;
+    std::printf("[ msm ] one diagonal per quad, h_t/δ = %.1f: G_s = %.5f k_b, K_A = %.5f k_b, E_2D = %.5f k_b, "
+                "ν = %.4f; §4's formula G_s = %.5f k_b (network/formula %.4f)\n",
+                h, m.shear, m.area, m.young, m.poisson, formula, ratio);
+    EXPECT_GT(m.shear, 0);
+    EXPECT_GT(m.area, m.shear);  // ν > 0
+    if (h == 1.0) {
+      // E_2D and ν of the uniaxial test above: (21/5)/√3 and 1/3.
+      EXPECT_NEAR(m.young / (4.2 / s3), 1.0, 0.01);
+      EXPECT_NEAR(m.poisson * 3, 1.0, 0.01);
+    }
+    if (previous_ratio > 0) {
+      EXPECT_LT(ratio, previous_ratio);  // the formula grows ∝ h_t, the network does not
+    }
+    previous_ratio = ratio;
+  }
 }
 
 }  // namespace
