@@ -67,7 +67,9 @@ def main():
         rng = f"{min(dy):.3f}-{max(dy):.3f}" if dy else "n/a"
         print(f"eta {eta}: {len(rows)} runs ({status}); D_inf,y(4) {rng}")
     for p in pearson:
-        print("Pearson r, eta " + f"{p['eta']:g}: " + ", ".join(f"{k} {v:+.2f}" for k, v in p.items() if k != "eta"))
+        values = [v for k, v in p.items() if k != "eta"]
+        print("Pearson r, eta " + f"{p['eta']:g}: " + ", ".join(f"{k} {v:+.2f}" for k, v in p.items() if k != "eta")
+              + f"; mean |r| {sum(abs(v) for v in values) / len(values):.2f}")
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
