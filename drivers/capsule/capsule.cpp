@@ -150,7 +150,12 @@ void constriction_sweep(const Parameters& par, const cli::DriverApp& app) {
         results.push_back(*done);
         continue;
       }
-      results.push_back(run_constriction(par, app, stem, ca, eta));
+      run_constriction(par, app, stem, ca, eta);
+      // The row as written (8 significant digits), as a reused run reads it: a sweep's table and
+      // Pearson r come out the same whether its runs were made now or reused with --restart.
+      const auto written = capsule::read_result(run + "_result.csv");
+      if (!written) throw std::runtime_error("capsule: cannot read back " + run + "_result.csv");
+      results.push_back(*written);
     }
   driver::write_atomically(stem + "_sweep.csv", capsule::sweep_table(results));
 
