@@ -45,6 +45,8 @@ def main():
         print(f"Ca {r['ca_network']:g} (gamma t {r['shear_time']:g}): D_xy {r['taylor_deformation']:.4f} ± "
               f"{r['taylor_deformation_std']:.4f}, drift {r['drift_over_window']:+.4f} "
               f"({'steady' if r['steady'] else 'NOT steady'}), theta/pi {r['inclination_over_pi']:.4f}")
+    low = [r for r in rows if r["ca_network"] <= 0.05]
+    print("D_xy/Ca at Ca <= 0.05: " + ", ".join(f"{r['taylor_deformation'] / r['ca_network']:.2f}" for r in low))
     for ca, ref, source in REFERENCES:
         match = [r for r in rows if abs(r["ca_network"] - ca) < 1e-12]
         if match:

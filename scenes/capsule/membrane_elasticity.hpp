@@ -91,7 +91,11 @@ inline MembraneModuli measure_membrane_moduli(double thickness_over_spacing, msm
     const double w0 = energy_density(exx, 0), w1 = energy_density(exx, step), w2 = energy_density(exx, 2 * step);
     const double c = (w0 - 2 * w1 + w2) / (2 * step * step), b = (w1 - w0) / step - c * step;
     eyy_out = -b / (2 * c);
-    return energy_density(exx, eyy_out);
+    const double w = energy_density(exx, eyy_out);
+    if (!(w <= std::min({w0, w1, w2}) * (1 + 1e-9)))
+      throw std::runtime_error("measure_membrane_moduli: the transverse strain at ε_xx = " + std::to_string(exx) +
+                               " is not at the energy's minimum");
+    return w;
   };
 
   const double e = strain, e2 = strain * strain;

@@ -421,75 +421,16 @@ TEST(MsmFlatMembrane, IsAPeriodicTwoLayerTriangularLattice) {
 // E_2D does not scale with h_t, so E = E_2D/h_t = 5k_b/(√3 δ) holds at one thickness only (crossed:
 // E_2D = 5.78, 5.25, 5.00, 4.81, 4.60 k_b/√3 at h_t/δ = 0.5, 0.8, 1, 1.2, 1.5).
 
-struct Uniaxial {
-  double transverse_strain;  // ε_yy at σ_yy = 0
-  double energy_density;     // U/A at that ε_yy
-};
-
-class PatchUnderStrain {
- public:
-  using Exec = Kokkos::DefaultExecutionSpace;
-
-  explicit PatchUnderStrain(const MembraneMesh& mesh)
-      : mesh_(mesh), bonds_(msm::upload_bonds<double, Exec>(mesh)), p_(std::size_t(mesh.num_particles()), "patch") {}
-
-  // U/A₀ at box strains (ε_xx, ε_yy), the particles relaxed from the affinely strained lattice.
-  double relaxed_energy_density(double exx, double eyy) {
-    const auto box = mesh_box<double>(mesh_, exx, eyy);
-    auto x = Kokkos::create_mirror_view(p_.x);
-    for (int i = 0; i < mesh_.num_particles(); ++i) {
-      const auto& r = mesh_.position[std::size_t(i)];
-      x(i, 0) = (1 + exx) * r[0];
-      x(i, 1) = (1 + eyy) * r[1];
-      x(i, 2) = r[2];
-    }
-    Kokkos::deep_copy(p_.x, x);
-    FireParameters fire;
-    fire.dt_start = 0.01;
-    fire.dt_max = 0.2;
-    fire.force_tolerance = 1e-12;
-    auto forces = [&] {
-      p_.zero_forces();
-      bonds_.accumulate(p_, box);
-      return bonds_.energy(p_, box);
-    };
-    const auto result = fire_minimize(p_, forces, fire);
-    EXPECT_TRUE(result.converged) << "FIRE at ε = (" << exx << ", " << eyy << "): max |F| " << result.max_force;
-    return result.energy / (mesh_.period[0] * mesh_.period[1]);
-  }
-
-  // Stretched by ε_xx, ε_yy relaxed: the relaxed energy at three ε_yy, the minimum of the parabola
-  // through them, and the energy there.
-  Uniaxial uniaxial(double exx) {
-    const double step = -0.25 * exx;
-    const double w0 = relaxed_energy_density(exx, 0), w1 = relaxed_energy_density(exx, step),
-                 w2 = relaxed_energy_density(exx, 2 * step);
-    const double c = (w0 - 2 * w1 + w2) / (2 * step * step), b = (w1 - w0) / step - c * step;
-    const double eyy = -b / (2 * c);
-    const double w = relaxed_energy_density(exx, eyy);
-    EXPECT_LE(w, std::min({w0, w1, w2}) * (1 + 1e-9)) << "the transverse strain is not relaxed";
-    return {eyy, w};
-  }
-
-  // E_2D and ν from ε_xx = ±strain (odd orders cancel).
-  std::pair<double, double> moduli(double strain) {
-    const auto plus = uniaxial(strain), minus = uniaxial(-strain);
-    return {(plus.energy_density + minus.energy_density) / (strain * strain),
-            -(plus.transverse_strain - minus.transverse_strain) / (2 * strain)};
-  }
-
- private:
-  MembraneMesh mesh_;
-  HarmonicBonds<3, double, Exec> bonds_;
-  Particles<3, double, Exec> p_;
-};
+// The measurement itself is capsule::measure_membrane_moduli (scenes/capsule/membrane_elasticity.hpp):
+// the same 6 × 6 patch (δ = 1, k_b = 1) strained by ±1% and relaxed by FIRE, which the capsule driver
+// uses for its Ca.
 
 TEST(MsmMembraneElasticity, CrossedDiagonalsGiveThePapersYoungsModulusAndPoissonRatio) {
   const auto par = patch(DiagonalBonds::both_per_quad, 1.0);
   const auto mesh = msm::flat_membrane(par);
   const double delta = mesh.mean_in_layer_bond_length(), k_b = par.bonds.k_b, h_t = par.thickness;
-  PatchUnderStrain strained(mesh);
-  const auto [E2D, nu] = strained.moduli(0.01);
+  const auto moduli = capsule::measure_membrane_moduli(h_t / delta, par.bonds.diagonals);
+  const double E2D = moduli.young * k_b, nu = moduli.poisson;
   const double E = E2D / h_t, E_paper = 5 * k_b / (std::sqrt(3.0) * delta);
   std::printf("[ msm ] both diagonals, h_t = δ: E = E_2D/h_t = %.5f k_b/δ, paper 5/√3 = %.5f (ratio %.5f); "
               "ν = %.5f, paper 1/4 (ratio %.5f)\n",
@@ -502,8 +443,8 @@ TEST(MsmMembraneElasticity, PaperBondCountGivesItsOwnLinearElasticityNotThePaper
   const auto par = patch(DiagonalBonds::one_per_quad, 1.0);
   const auto mesh = msm::flat_membrane(par);
   const double delta = mesh.mean_in_layer_bond_length(), k_b = par.bonds.k_b, h_t = par.thickness;
-  PatchUnderStrain strained(mesh);
-  const auto [E2D, nu] = strained.moduli(0.01);
+  const auto moduli = capsule::measure_membrane_moduli(h_t / delta, par.bonds.diagonals);
+  const double E2D = moduli.young * k_b, nu = moduli.poisson;
   const double E = E2D / h_t, E_paper = 5 * k_b / (std::sqrt(3.0) * delta);
   const double E_network = 4.2 * k_b / (std::sqrt(3.0) * delta);  // (21/5) k_b/(√3 δ) at h_t = δ
   std::printf("[ msm ] one diagonal per quad (paper's count), h_t = δ: E = %.5f k_b/δ, network theory %.5f, "
