@@ -76,6 +76,9 @@ def main(argv):
     # The session's tests, then each further gpu_run_tests OUT_DIR (reruns of programs that were not
     # run or were cut at their time limit): a later run's row replaces an earlier one.
     test_dirs = [os.path.join(session, "tests")] + argv[3:]
+    if os.path.exists(os.path.join(test_dirs[0], "suites.csv")):
+        summarize_suites(test_dirs[0], out)
+        test_dirs = []
     merged, logs = {}, {}
     for k, d in enumerate(test_dirs):
         run_logs = read_logs(d)
@@ -95,6 +98,8 @@ def main(argv):
             merged[r["program"]] = r
             logs[r["program"]] = text
     rows = [merged[p] for p in sorted(merged)]
+    if not rows:
+        return summarize_rest(session, out)
     with open(os.path.join(out, "tests.csv"), "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
         w.writeheader()
@@ -117,7 +122,51 @@ def main(argv):
     print("cut at their time limit (tests until then passed): %s" % (", ".join(cut) or "none"))
     for line in failures:
         print("  failed: " + line)
+    return summarize_rest(session, out)
 
+
+def summarize_suites(test_dir, out):
+    """tests.csv and failures.txt from a `gpu_run_tests suites` folder; totals per program printed."""
+    rows = list(csv.DictReader(open(os.path.join(test_dir, "suites.csv"))))
+    logs = read_logs(test_dir)  # logs/<row index>.log, 1-based in suites.csv's order
+    failures = []
+    for i, r in enumerate(rows, 1):
+        for line in logs.get(str(i), "").splitlines():
+            mt = re.match(r"\[  FAILED  \] (\S+)(, where .*)? \(\d+ ms\)$", line)
+            if mt:
+                failures.append("%s: %s" % (r["program"], mt.group(1)))
+    failures = sorted(set(failures))
+    with open(os.path.join(out, "tests.csv"), "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
+        w.writeheader()
+        w.writerows(rows)
+    with open(os.path.join(out, "failures.txt"), "w") as f:
+        f.write("\n".join(failures) + ("\n" if failures else ""))
+    per = {}
+    for r in rows:
+        a = per.setdefault(r["program"], {"entries": 0, "passed": 0, "failed": 0, "stopped": [], "not_run": 0,
+                                          "bad": 0})
+        a["entries"] += 1
+        a["passed"] += int(r["passed"])
+        a["failed"] += int(r["failed"])
+        if r["exit_status"] in ("124", "137"):
+            a["stopped"].append(r["running_at_stop"] or r["filter"])
+        elif r["exit_status"] == "not run":
+            a["not_run"] += 1
+        elif r["exit_status"] != "0":
+            a["bad"] += 1
+    print("tests, one process per suite: %d processes, %d tests passed, %d failed"
+          % (len(rows), sum(a["passed"] for a in per.values()), sum(a["failed"] for a in per.values())))
+    for p in sorted(per):
+        a = per[p]
+        print("  %-28s %4d passed %3d failed  %d stopped at the deadline%s%s" % (
+            p, a["passed"], a["failed"], len(a["stopped"]), " (" + ", ".join(a["stopped"]) + ")" if a["stopped"] else "",
+            ", %d not started" % a["not_run"] if a["not_run"] else ""))
+    for line in failures:
+        print("  failed: " + line)
+
+
+def summarize_rest(session, out):
     bench_rows = []
     bandwidth = None
     for name in sorted(os.listdir(session)):
@@ -198,6 +247,21 @@ def summarize_obstacles(session, out):
         result["ratio_lower"] = ratio * math.exp(-1.96 * se)
         result["ratio_upper"] = ratio * math.exp(1.96 * se)
         result["consistent_at_95"] = result["ratio_lower"] <= 1 <= result["ratio_upper"]
+    # The same seeds give the same obstacle arrays and initial droplets on both: how many of the
+    # replicas both ran clog on both, and at the same place (|Δd| < 1σ).
+    cpu_replicas = CPU_REFERENCE[:-4] + ".replicas.csv"
+    gpu_replicas = os.path.join(d, "gpu.replicas.csv")
+    if os.path.exists(cpu_replicas) and os.path.exists(gpu_replicas):
+        key = lambda r: (r["line_tension"], r["gap"], r["replica"])
+        c = {key(r): r for r in csv.DictReader(open(cpu_replicas))}
+        g = {key(r): r for r in csv.DictReader(open(gpu_replicas))}
+        common = [k for k in g if k in c and g[k]["seed"] == c[k]["seed"]]
+        both = [k for k in common if g[k]["clogged"] == "1" and c[k]["clogged"] == "1"]
+        same = [k for k in both if abs(float(g[k]["distance"]) - float(c[k]["distance"])) < 1.0]
+        result["same_seed_replicas"] = len(common)
+        result["same_seed_both_clogged"] = len(both)
+        result["same_seed_clogged_within_one_sigma"] = len(same)
+        result["same_seed_same_outcome"] = sum(g[k]["clogged"] == c[k]["clogged"] for k in common)
     with open(os.path.join(out, "obstacles_vs_cpu.json"), "w") as f:
         json.dump(result, f, indent=2)
     print("obstacles: GPU λ = %.3g [%.3g, %.3g]σ (%d/%d clogged), CPU λ = %.3g [%.3g, %.3g]σ (%d/%d); ratio %s"
@@ -206,6 +270,10 @@ def summarize_obstacles(session, out):
              result["cpu"]["decay_length_upper"], n_c, result["cpu"]["replicas"],
              "%.3f [%.3f, %.3f]" % (result["ratio"], result["ratio_lower"], result["ratio_upper"])
              if "ratio" in result else "undefined"))
+    if "same_seed_replicas" in result:
+        print("  same seeds: %d replicas, same outcome in %d, both clogged in %d, %d of those within 1σ of each other"
+              % (result["same_seed_replicas"], result["same_seed_same_outcome"], result["same_seed_both_clogged"],
+                 result["same_seed_clogged_within_one_sigma"]))
 
 
 if __name__ == "__main__":
