@@ -77,7 +77,7 @@ def main(argv):
     # run or were cut at their time limit): a later run's row replaces an earlier one.
     test_dirs = [os.path.join(session, "tests")] + argv[3:]
     if os.path.exists(os.path.join(test_dirs[0], "suites.csv")):
-        summarize_suites(test_dirs[0], out)
+        summarize_suites(test_dirs, out)
         test_dirs = []
     merged, logs = {}, {}
     for k, d in enumerate(test_dirs):
@@ -125,16 +125,26 @@ def main(argv):
     return summarize_rest(session, out)
 
 
-def summarize_suites(test_dir, out):
-    """tests.csv and failures.txt from a `gpu_run_tests suites` folder; totals per program printed."""
-    rows = list(csv.DictReader(open(os.path.join(test_dir, "suites.csv"))))
-    logs = read_logs(test_dir)  # logs/<row index>.log, 1-based in suites.csv's order
+def summarize_suites(test_dirs, out):
+    """tests.csv and failures.txt from `gpu_run_tests suites` folders (a later folder, e.g. a rerun of
+    the entries an earlier one stopped, replaces their rows); totals per program printed."""
+    merged, order = {}, []
     failures = []
-    for i, r in enumerate(rows, 1):
-        for line in logs.get(str(i), "").splitlines():
-            mt = re.match(r"\[  FAILED  \] (\S+)(, where .*)? \(\d+ ms\)$", line)
-            if mt:
-                failures.append("%s: %s" % (r["program"], mt.group(1)))
+    for k, test_dir in enumerate(test_dirs):
+        rows = list(csv.DictReader(open(os.path.join(test_dir, "suites.csv"))))
+        logs = read_logs(test_dir)  # logs/<row index>.log, 1-based in suites.csv's order
+        for i, r in enumerate(rows, 1):
+            key = (r["program"], r["filter"])
+            if key not in merged:
+                order.append(key)
+            r["run"] = str(k + 1)
+            merged[key] = r
+            r["_failures"] = ["%s: %s" % (r["program"], mt.group(1)) for mt in
+                              (re.match(r"\[  FAILED  \] (\S+)(, where .*)? \(\d+ ms\)$", line)
+                               for line in logs.get(str(i), "").splitlines()) if mt]
+    rows = [merged[key] for key in order]
+    for r in rows:
+        failures += r.pop("_failures")
     failures = sorted(set(failures))
     with open(os.path.join(out, "tests.csv"), "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
@@ -155,15 +165,32 @@ def summarize_suites(test_dir, out):
             a["not_run"] += 1
         elif r["exit_status"] != "0":
             a["bad"] += 1
-    print("tests, one process per suite: %d processes, %d tests passed, %d failed"
+            a.setdefault("crashed", []).append("%s (exit %s in %s)" % (r["filter"], r["exit_status"],
+                                                                        r["running_at_stop"] or "?"))
+    print("tests, one process per suite: %d entries, %d tests passed, %d failed"
           % (len(rows), sum(a["passed"] for a in per.values()), sum(a["failed"] for a in per.values())))
     for p in sorted(per):
         a = per[p]
         print("  %-28s %4d passed %3d failed  %d stopped at the deadline%s%s" % (
             p, a["passed"], a["failed"], len(a["stopped"]), " (" + ", ".join(a["stopped"]) + ")" if a["stopped"] else "",
             ", %d not started" % a["not_run"] if a["not_run"] else ""))
+        for c in a.get("crashed", []):
+            print("      crashed: " + c)
     for line in failures:
         print("  failed: " + line)
+
+
+def bench_rows_from_text(path):
+    scale = {"": 1.0, "k": 1e3, "M": 1e6, "G": 1e9, "T": 1e12}
+    rows = []
+    if not os.path.exists(path):
+        return rows
+    for line in open(path, errors="replace"):
+        m = re.match(r"^(BM_\S+(?:, \S+)*)\s+[\d.]+ \w+\s+[\d.]+ \w+\s+\d+ .*?items_per_second=([\d.]+)([kMGT]?)/s", line)
+        if m:
+            rows.append({"name": m.group(1), "items_per_second": float(m.group(2)) * scale[m.group(3)],
+                         "source": "console"})
+    return rows
 
 
 def summarize_rest(session, out):
@@ -175,7 +202,9 @@ def summarize_rest(session, out):
         try:
             data = json.load(open(os.path.join(session, name)))
         except (ValueError, OSError):
-            continue
+            # A program that aborted leaves its JSON unfinished: the console lines it printed before
+            # (bench_*.txt, "name  time  cpu  iterations ... items_per_second=5.42942G/s") are read instead.
+            data = {"benchmarks": bench_rows_from_text(os.path.join(session, name[:-5] + ".txt"))}
         for b in data.get("benchmarks", []):
             if b.get("run_type", "iteration") != "iteration":
                 continue

@@ -53,12 +53,13 @@ struct OrificeScene {
   }
 };
 
-enum class OrificeOutcome { passed, clogged, time_limit };
+enum class OrificeOutcome { passed, clogged, time_limit, stopped };  // stopped: OrificeRun::stop()
 
 inline const char* to_string(OrificeOutcome o) {
   switch (o) {
     case OrificeOutcome::passed: return "passed";
     case OrificeOutcome::clogged: return "clogged";
+    case OrificeOutcome::stopped: return "stopped";
     default: return "time_limit";
   }
 }
@@ -80,71 +81,111 @@ Surfaces<Real, Kokkos::DefaultExecutionSpace> orifice_surfaces(double width) {
   return Surfaces<Real, Kokkos::DefaultExecutionSpace>(std::vector<Shape<2, Real>>{wedges[0], wedges[1]});
 }
 
+// One passage in precision Real, sample by sample: the constructor builds the scene, relaxes it
+// and takes the first sample; advance() steps to the next sample (or the end) and returns whether
+// it appended one. The `orifice` driver (through run_orifice below) and the Python front end
+// (python/src/droplets.cpp) both run this loop, so they give the same profile bit for bit.
+template <class Real = double>
+class OrificeRun {
+ public:
+  using Exec = Kokkos::DefaultExecutionSpace;
+  using Scene = DropletScene<Real, Exec>;
+
+  explicit OrificeRun(const OrificeScene& setup)
+      : setup_((setup.validate(), setup)),
+        scene_(setup.droplet, orifice_surfaces<Real>(setup.width), {Vec<2, double>{{0.0, -setup.start_h}}}),
+        watch_((scene_.relax(), scene_.watched()), setup.check_interval) {
+    prof_.dt = scene_.dt();
+    prof_.components = scene_.components();
+    terminal_energy_ = 0.5 * droplet_mass * setup.droplet.terminal_speed * setup.droplet.terminal_speed;  // E_t
+    sample_every_ = std::max(1LL, std::llround(setup.sample_interval / scene_.dt()));
+    max_steps_ = std::llround(setup.max_time / scene_.dt());
+    // Contact with the funnel begins where the droplet's disk touches the 45° walls:
+    // (−h + w/2)/√2 = 1/2 ⇒ h = w/2 − √2/2. Area is measured against the free droplet's before it.
+    contact_h_ = 0.5 * setup.width - std::sqrt(0.5);
+    sample();
+  }
+
+  // Steps until the next sample is appended (true) or the run has ended without one (false). The
+  // run ends when the droplet has passed (h ≥ end_h), clogged (E_k/E_t below the threshold once it
+  // has moved), at the time limit, or by stop(); the last state is always a sample.
+  bool advance() {
+    if (done_) return false;
+    constexpr long long clog_check_every = 10;  // steps; E_k decays at ~2b∞/M per t0, so 10 steps lose nothing
+    while (scene_.steps() < max_steps_) {
+      scene_.step();
+      watch_.after_step();
+      const bool at_sample = scene_.steps() % sample_every_ == 0;
+      const bool at_check = at_sample || scene_.steps() % clog_check_every == 0;
+      const double ek = at_check ? kinetic_energy(scene_.particles()) / terminal_energy_ : 1.0;
+      if (at_check && ek > 0.25) moving_ = true;  // (v/v_t)² > 1/4: the clog test starts
+      if (moving_ && ek < setup_.clog_threshold) return end(OrificeOutcome::clogged);
+      if (at_sample) {
+        watch_.check();  // no sample is taken from a non-finite state
+        sample();
+        if (prof_.h.back() >= setup_.end_h) end(OrificeOutcome::passed);
+        return true;
+      }
+    }
+    return end(OrificeOutcome::time_limit);
+  }
+
+  // Ends the run at the current step (outcome `stopped`, unless it had already ended); returns
+  // whether a last sample was appended.
+  bool stop() { return done_ ? false : end(OrificeOutcome::stopped); }
+
+  bool done() const { return done_; }
+  const OrificeProfile& profile() const { return prof_; }
+  const OrificeScene& setup() const { return setup_; }
+  Scene& scene() { return scene_; }
+  const Scene& scene() const { return scene_; }
+
+ private:
+  void sample() {
+    const auto o = scene_.observables();
+    const double ek = kinetic_energy(scene_.particles()) / terminal_energy_;
+    prof_.t.push_back(scene_.time());
+    prof_.h.push_back(-o.com[0][1]);
+    prof_.vg.push_back(-o.com_velocity[0][1]);
+    prof_.shape.push_back(o.shape_parameter[0]);
+    prof_.area.push_back(o.area[0] / droplet_area);
+    prof_.kinetic.push_back(ek);
+    if (prof_.h.back() < contact_h_ - 0.1)
+      prof_.free_area = prof_.area.back();
+    else if (prof_.free_area > 0)
+      prof_.max_area_error = std::max(prof_.max_area_error, std::abs(prof_.area.back() / prof_.free_area - 1));
+  }
+  // Records the outcome; the last state becomes a sample if it is not one. Returns whether it was appended.
+  bool end(OrificeOutcome outcome) {
+    prof_.outcome = outcome;
+    done_ = true;
+    bool appended = false;
+    if (prof_.t.empty() || prof_.t.back() != scene_.time()) {
+      sample();
+      appended = true;
+    }
+    prof_.steps = scene_.steps();
+    return appended;
+  }
+
+  OrificeScene setup_;
+  Scene scene_;
+  watchdog::NanWatchdog watch_;
+  OrificeProfile prof_;
+  double terminal_energy_ = 0, contact_h_ = 0;
+  long long sample_every_ = 1, max_steps_ = 0;
+  bool moving_ = false, done_ = false;
+};
+
 // Runs one passage in precision Real (the drivers use double; perf/tradeoff compares float).
 // `on_sample(scene, profile)` is called after every sample is appended (the driver writes frames
 // from it); pass [](auto&, auto&) {} when none is wanted.
 template <class Real = double, class OnSample>
 OrificeProfile run_orifice(const OrificeScene& setup, OnSample&& on_sample) {
-  using Exec = Kokkos::DefaultExecutionSpace;
-  setup.validate();
-  DropletScene<Real, Exec> scene(setup.droplet, orifice_surfaces<Real>(setup.width),
-                                 {Vec<2, double>{{0.0, -setup.start_h}}});
-  scene.relax();
-  OrificeProfile prof;
-  prof.dt = scene.dt();
-  prof.components = scene.components();
-  const double vt = setup.droplet.terminal_speed;
-  const double terminal_energy = 0.5 * droplet_mass * vt * vt;  // E_t
-  const long long sample_every = std::max(1LL, std::llround(setup.sample_interval / scene.dt()));
-  const long long max_steps = std::llround(setup.max_time / scene.dt());
-  // Contact with the funnel begins where the droplet's disk touches the 45° walls:
-  // (−h + w/2)/√2 = 1/2 ⇒ h = w/2 − √2/2. Area is measured against the free droplet's before it.
-  const double contact_h = 0.5 * setup.width - std::sqrt(0.5);
-  bool moving = false;  // the clog test starts once the droplet has reached half the terminal speed
-
-  auto sample = [&] {
-    const auto o = scene.observables();
-    const double ek = kinetic_energy(scene.particles()) / terminal_energy;
-    prof.t.push_back(scene.time());
-    prof.h.push_back(-o.com[0][1]);
-    prof.vg.push_back(-o.com_velocity[0][1]);
-    prof.shape.push_back(o.shape_parameter[0]);
-    prof.area.push_back(o.area[0] / droplet_area);
-    prof.kinetic.push_back(ek);
-    if (prof.h.back() < contact_h - 0.1)
-      prof.free_area = prof.area.back();
-    else if (prof.free_area > 0)
-      prof.max_area_error = std::max(prof.max_area_error, std::abs(prof.area.back() / prof.free_area - 1));
-    on_sample(scene, prof);
-    return ek;
-  };
-
-  watchdog::NanWatchdog watch(scene.watched(), setup.check_interval);
-  sample();
-  constexpr long long clog_check_every = 10;  // steps; E_k decays at ~2b∞/M per t0, so 10 steps lose nothing
-  while (scene.steps() < max_steps) {
-    scene.step();
-    watch.after_step();
-    const bool at_sample = scene.steps() % sample_every == 0;
-    const bool at_check = at_sample || scene.steps() % clog_check_every == 0;
-    const double ek = at_check ? kinetic_energy(scene.particles()) / terminal_energy : 1.0;
-    if (at_check && ek > 0.25) moving = true;  // (v/v_t)² > 1/4
-    if (moving && ek < setup.clog_threshold) {
-      prof.outcome = OrificeOutcome::clogged;
-      break;
-    }
-    if (at_sample) {
-      watch.check();  // no sample is taken from a non-finite state
-      sample();
-      if (prof.h.back() >= setup.end_h) {
-        prof.outcome = OrificeOutcome::passed;
-        break;
-      }
-    }
-  }
-  if (prof.t.empty() || prof.t.back() != scene.time()) sample();
-  prof.steps = scene.steps();
-  return prof;
+  OrificeRun<Real> run(setup);
+  on_sample(run.scene(), run.profile());
+  while (run.advance()) on_sample(run.scene(), run.profile());
+  return run.profile();
 }
 
 inline OrificeProfile run_orifice(const OrificeScene& setup) {

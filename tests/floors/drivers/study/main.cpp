@@ -6,3 +6,4 @@
 #include "io/writer.hpp"              // fine
 #include <Kokkos_Core.hpp>            // fine
 #include "tests/helper.hpp"           // expect: outside-include
+#include "python/study/lifetime.hpp"  // expect: beside-include

@@ -1,0 +1,2 @@
+// lifetime.hpp — fixture for scripts/check_floors (see bindings.cpp).
+#pragma once
