@@ -22,6 +22,11 @@ decay_length = _core.decay_length
 survival_curve = _core.survival_curve
 replica_seed = _core.replica_seed
 
+
+def obstacle_centres(strength, gap, seed, replica, **kw):
+    """The obstacle centres (n, 2) of replica `replica` of a clogging_sweep with these keywords."""
+    return _core.obstacle_centres(obstacle_sweep(**kw), float(strength), float(gap), seed, replica)
+
 _DROPLET_KEYS = ("vertices", "line_tension", "area_stiffness", "bending_stiffness", "wall_energy",
                  "vertex_diameter", "near_wall_drag", "terminal_speed", "drag_exponent", "drag_floor", "dt",
                  "drag", "force_dt", "gravity_angle")

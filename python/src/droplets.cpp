@@ -193,6 +193,21 @@ void bind_droplets(py::module_& top) {
            "Refuses the point (ValueError naming the parameter) or returns its time step")
       .def("may_revisit_own_path", &droplets::ObstacleSweep::may_revisit_own_path);
 
+  m.def(
+      "obstacle_centres",
+      [](const droplets::ObstacleSweep& sweep, double strength, double gap, std::uint64_t seed, int replica) {
+        const auto centres = droplets::ensemble_detail::replica_obstacles(sweep.at(strength, gap),
+                                                                          droplets::replica_seed(seed, replica));
+        py::array_t<double> a(std::vector<py::ssize_t>{py::ssize_t(centres.size()), 2});
+        auto r = a.mutable_unchecked<2>();
+        for (std::size_t i = 0; i < centres.size(); ++i) {
+          r(py::ssize_t(i), 0) = centres[i][0];
+          r(py::ssize_t(i), 1) = centres[i][1];
+        }
+        return a;
+      },
+      py::arg("sweep"), py::arg("strength"), py::arg("gap"), py::arg("seed"), py::arg("replica"),
+      "the obstacle centres (n, 2) of replica `replica` at point (strength, gap), as the sweep places them");
   m.def("replica_seed", [](std::uint64_t seed, int replica) { return droplets::replica_seed(seed, replica); },
         py::arg("seed"), py::arg("replica"), "the obstacle-array seed of a replica (as the obstacles driver)");
 

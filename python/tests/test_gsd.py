@@ -1,0 +1,48 @@
+"""GSD output (mesoflow.gsd_output): read back with the gsd module, as OVITO would read it."""
+import gsd.hoomd
+import numpy as np
+import pytest
+
+from mesoflow import droplets
+from mesoflow.gsd_output import OrificeGsd, obstacle_array_gsd, polygon_centroid
+
+
+def test_orifice_frames_hold_the_droplet_polygon_and_the_wedges(tmp_path):
+    path = str(tmp_path / "orifice.gsd")
+    run = droplets.orifice(vertices=32, start_h=-1.3, max_time=1.0, sample_interval=0.1)
+    with OrificeGsd(path, run, every=5) as out:
+        run.run(callback=out)
+    last = np.array(run.positions)
+    f = gsd.hoomd.open(path, "rb")
+    assert len(f) == 4  # the first sample, samples 5 and 10, and the last (11, the time limit)
+    frame = f[-1]
+    assert frame.configuration.dimensions == 2
+    assert list(frame.particles.types) == ["droplet", "wedge_left", "wedge_right"]
+    shapes = frame.particles.type_shapes
+    assert shapes[0]["type"] == "Polygon" and len(shapes[0]["vertices"]) == 32
+    assert shapes[1]["type"] == "Polygon" and len(shapes[1]["vertices"]) == 3
+    centre = frame.particles.position[0, :2].astype(float)
+    np.testing.assert_allclose(centre, polygon_centroid(last), atol=1e-6)  # float32 positions
+    np.testing.assert_allclose(np.array(shapes[0]["vertices"]) + polygon_centroid(last), last, atol=1e-12)
+    assert frame.log["time"][0] == pytest.approx(run.time)
+    # the droplet moved between the first and the last frame, the wedges did not
+    assert f[0].particles.position[0, 1] > frame.particles.position[0, 1]
+    np.testing.assert_array_equal(f[0].particles.position[1:], frame.particles.position[1:])
+    tip = np.array(shapes[2]["vertices"][0]) + frame.particles.position[2, :2]
+    np.testing.assert_allclose(tip, [0.2, 0.0], atol=1e-6)  # the right wedge's tip at (w/2, 0)
+
+
+def test_an_obstacle_array_is_disks_of_the_obstacle_diameter(tmp_path):
+    kw = dict(box_length=10.0, obstacle_fraction=0.05)
+    centres = droplets.obstacle_centres(1.0, 0.2, seed=3, replica=2, **kw)
+    assert centres.shape[1] == 2 and len(centres) > 10
+    np.testing.assert_array_equal(centres, droplets.obstacle_centres(1.0, 0.2, seed=3, replica=2, **kw))
+    assert not np.array_equal(centres, droplets.obstacle_centres(1.0, 0.2, seed=3, replica=1, **kw))
+    path = str(tmp_path / "array.gsd")
+    square = np.array([[4.5, 4.5], [5.5, 4.5], [5.5, 5.5], [4.5, 5.5]])
+    obstacle_array_gsd(path, centres, 0.3, 10.0, droplets=[square])
+    frame = gsd.hoomd.open(path, "rb")[0]
+    assert frame.particles.N == len(centres) + 1
+    assert frame.particles.type_shapes[0] == {"type": "Disk", "diameter": 0.3}
+    assert np.all(np.abs(frame.particles.position[:, :2]) <= 5.0)
+    np.testing.assert_allclose(frame.particles.position[-1, :2], [0.0, 0.0], atol=1e-6)  # (5, 5) − L/2
