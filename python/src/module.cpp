@@ -14,6 +14,7 @@ namespace py = pybind11;
 
 namespace mesoflow::python {
 void bind_droplets(py::module_& m);
+void bind_analysis(py::module_& m);
 }  // namespace mesoflow::python
 
 PYBIND11_MODULE(_mesoflow, m) {
@@ -48,4 +49,5 @@ PYBIND11_MODULE(_mesoflow, m) {
         "True when the default execution space's memory is host memory: arrays are then zero-copy views");
   m.attr("version") = MESOFLOW_VERSION;
   bind_droplets(m);
+  bind_analysis(m);
 }
