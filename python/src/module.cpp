@@ -15,6 +15,7 @@ namespace py = pybind11;
 namespace mesoflow::python {
 void bind_droplets(py::module_& m);
 void bind_analysis(py::module_& m);
+void bind_hopper(py::module_& m);
 }  // namespace mesoflow::python
 
 PYBIND11_MODULE(_mesoflow, m) {
@@ -50,4 +51,5 @@ PYBIND11_MODULE(_mesoflow, m) {
   m.attr("version") = MESOFLOW_VERSION;
   bind_droplets(m);
   bind_analysis(m);
+  bind_hopper(m);
 }
