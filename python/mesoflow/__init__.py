@@ -27,7 +27,11 @@ def initialize(threads=0):
 
 from . import droplets  # noqa: E402  (after initialize, which it uses)
 from . import hopper  # noqa: E402
+from . import crystal  # noqa: E402
+from . import capsule  # noqa: E402
+from . import pillars  # noqa: E402
 from ._mesoflow import analysis  # noqa: E402  (host analysis on arrays; no Kokkos needed)
 
 __all__ = ["initialize", "finalize", "is_initialized", "kokkos_configuration", "host_backend", "droplets",
-           "hopper", "analysis"]
+           "hopper", "crystal", "capsule", "pillars",
+           "analysis"]

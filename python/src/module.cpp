@@ -16,6 +16,9 @@ namespace mesoflow::python {
 void bind_droplets(py::module_& m);
 void bind_analysis(py::module_& m);
 void bind_hopper(py::module_& m);
+void bind_crystal(py::module_& m);
+void bind_capsule(py::module_& m);
+void bind_pillars(py::module_& m);
 }  // namespace mesoflow::python
 
 PYBIND11_MODULE(_mesoflow, m) {
@@ -52,4 +55,7 @@ PYBIND11_MODULE(_mesoflow, m) {
   bind_droplets(m);
   bind_analysis(m);
   bind_hopper(m);
+  bind_crystal(m);
+  bind_capsule(m);
+  bind_pillars(m);
 }

@@ -1,0 +1,138 @@
+// pillars.cpp — bindings of the pillar-array flow (mdpd-pillar-array-permeability: MDPD fluid
+// driven through tethered pillars, scenes/pillars/pillar_flow.hpp and pillar_runs.hpp), in 2D or 3D.
+// The scene and its run loop (PillarFlow) are the `pillars` driver's; output files, checkpoints
+// and the permeability estimates stay there (mesoflow.analysis has the theory and the Brinkman fit).
+#include "python/src/lifetime.hpp"
+#include "scenes/pillars/pillar_runs.hpp"
+
+#include <pybind11/functional.h>
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <memory>
+
+namespace py = pybind11;
+
+namespace mesoflow::python {
+namespace {
+
+template <int D>
+class PyPillars : public Releasable {
+ public:
+  explicit PyPillars(const pillars::PillarRunParameters& par) {
+    require_kokkos();
+    const auto layout = pillars::make_layout(par);
+    flow_ = std::make_unique<pillars::PillarFlow<D>>(pillars::flow_settings(par, layout, D));
+  }
+  void release() override { flow_.reset(); }
+  pillars::PillarFlow<D>& get() {
+    if (!flow_) throw std::runtime_error("mesoflow: this scene's data was released when Kokkos was finalised");
+    return *flow_;
+  }
+
+ private:
+  std::unique_ptr<pillars::PillarFlow<D>> flow_;
+};
+
+// PillarFlow::run's output: each sample to a Python callback (a false return is not possible
+// mid-run: samples are recorded), nothing written to files.
+struct CallbackOutput {
+  std::function<void(py::dict)> on_sample;
+  void sample(const pillars::SampleObservables& o) {
+    if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+    if (!on_sample) return;
+    py::dict d;
+    d["mean_velocity_x"] = o.mean_velocity_x, d["pillar_force_x"] = o.pillar_force_x;
+    d["fluid_temperature"] = o.fluid_temperature;
+    on_sample(d);
+  }
+  void final() {}
+  void checkpoint() {}
+  void progress(long long) {}
+};
+
+template <int D>
+void bind_flow(py::module_& m, const char* name) {
+  using S = PyPillars<D>;
+  py::class_<S>(m, name, "MDPD fluid in a pillar array (built, not yet filled: call equilibrate())")
+      .def(py::init<const pillars::PillarRunParameters&>(), py::arg("parameters"))
+      .def("equilibrate", [](S& s, long long steps, long long check_every) { s.get().equilibrate_and_carve(steps, check_every); },
+           py::arg("steps"), py::arg("check_every") = 100,
+           "fills the box with fluid, equilibrates it without driving, carves the pillars out of it")
+      .def(
+          "run",
+          [](S& s, long long warmup, long long steps, long long sample_every, const std::function<void(py::dict)>& cb,
+             long long check_every) {
+            if (warmup < 0 || steps < 0 || sample_every < 1)
+              throw std::invalid_argument("warmup and steps must be >= 0 and sample_every >= 1");
+            CallbackOutput out{cb};
+            s.get().run(warmup, steps, sample_every, std::numeric_limits<long long>::max(), check_every, out);
+          },
+          py::arg("warmup"), py::arg("steps"), py::arg("sample_every") = 10, py::arg("on_sample") = nullptr,
+          py::arg("check_every") = 100, "driven steps: warmup, then steps sampled every sample_every")
+      .def_property_readonly("components", [](S& s) { return s.get().components(); })
+      .def_property_readonly("solid_particles", [](S& s) { return s.get().solid_particles(); })
+      .def_property_readonly("porosity", [](S& s) { return s.get().settings().porosity; })
+      .def_property_readonly("box", [](S& s) {
+        const auto& g = s.get().settings().geometry;
+        return py::make_tuple(g.Lx, g.Ly, g.H);
+      })
+      .def_property_readonly("record", [](S& s) {
+        const auto& r = s.get().record();
+        py::dict d;
+        d["samples"] = r.samples;
+        d["mean_velocity_x"] = r.samples > 0 ? r.sum_u / double(r.samples) : 0.0;
+        d["sample_velocity_x"] = r.sample_u;
+        d["count"] = r.count, d["velocity"] = r.velocity, d["pillar_force"] = r.pillar_force;
+        d["tether"] = r.tether;
+        return d;
+      }, "the accumulated flow record: per-sample mean u_x in the measurement region, elevation profiles")
+      .def_property_readonly(
+          "positions", [](py::object self) { return numpy_view(self.cast<S&>().get().system().particles.x, self); },
+          "every particle's position (n, D): fluid and solid; a view on host backends")
+      .def_property_readonly(
+          "velocities", [](py::object self) { return numpy_view(self.cast<S&>().get().system().particles.v, self); })
+      .def_property_readonly(
+          "types", [](py::object self) { return numpy_view(self.cast<S&>().get().system().particles.type, self); },
+          "0 fluid, 1 solid surface, 2 solid core (mdpd::particle_type)");
+}
+
+}  // namespace
+
+void bind_pillars(py::module_& top) {
+  py::module_ m = top.def_submodule("pillars", "MDPD flow through pillar arrays (mdpd-pillar-array-permeability)");
+  using P = pillars::PillarRunParameters;
+  py::class_<P>(m, "PillarRunParameters")
+      .def(py::init<>())
+      .def_readwrite("layout", &P::layout)
+      .def_readwrite("porosity", &P::porosity)
+      .def_readwrite("diameter", &P::diameter)
+      .def_readwrite("cells_x", &P::cells_x)
+      .def_readwrite("cells_y", &P::cells_y)
+      .def_readwrite("pillars", &P::pillars)
+      .def_readwrite("aspect", &P::aspect)
+      .def_readwrite("exclusion", &P::exclusion)
+      .def_readwrite("mc_sweeps", &P::mc_sweeps)
+      .def_readwrite("height", &P::height)
+      .def_readwrite("lz", &P::lz)
+      .def_readwrite("box", &P::box)
+      .def_readwrite("fb", &P::fb)
+      .def_readwrite("driving_length", &P::driving_length)
+      .def_readwrite("bin_width", &P::bin_width)
+      .def_readwrite("density", &P::density)
+      .def_readwrite("A", &P::A)
+      .def_readwrite("B", &P::B)
+      .def_readwrite("r_B", &P::r_B)
+      .def_readwrite("R", &P::R)
+      .def_readwrite("dt", &P::dt)
+      .def_readwrite("k_S", &P::k_S)
+      .def_readwrite("density_kernel", &P::density_kernel)
+      .def_readwrite("list", &P::list)
+      .def_readwrite("density_self_term", &P::density_self_term)
+      .def_readwrite("seed", &P::seed);
+  bind_flow<2>(m, "PillarFlow2D");
+  bind_flow<3>(m, "PillarFlow3D");
+}
+
+}  // namespace mesoflow::python

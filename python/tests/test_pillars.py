@@ -1,0 +1,41 @@
+"""The pillar-array flow from Python (mesoflow.pillars): the `pillars` driver's samples bit for bit."""
+import os
+import subprocess
+
+import h5py
+import numpy as np
+import pytest
+
+from mesoflow import pillars
+
+SCENE = dict(layout="square", porosity=0.8, cells_x=3, cells_y=1)
+FLAGS = ["--dimension", "2", "--layout", "square", "--porosity", "0.8", "--cells-x", "3", "--cells-y", "1",
+         "--equilibrate-steps", "100", "--warmup-steps", "200", "--steps", "1000", "--sample-every", "10"]
+
+
+def test_bad_parameters_raise_value_errors():
+    with pytest.raises(ValueError):
+        pillars.flow(layout="pentagonal")
+    with pytest.raises(ValueError, match="dimension must be 2 or 3"):
+        pillars.flow(dimension=1)
+    with pytest.raises(TypeError, match="unknown parameter porosty"):
+        pillars.flow(porosty=0.5)
+
+
+def test_the_samples_are_the_pillars_drivers_bit_for_bit(bin_dir, tmp_path):
+    out = tmp_path / "p.h5"
+    subprocess.run([os.path.join(bin_dir, "pillars"), "--quiet", "--threads", "1", *FLAGS, "--output", str(out)],
+                   check=True)
+    f = pillars.flow(**SCENE)
+    f.equilibrate(100)
+    samples = []
+    f.run(warmup=200, steps=1000, sample_every=10, on_sample=samples.append)
+    assert len(samples) == 100 and f.record["samples"] == 100
+    assert f.solid_particles > 0 and 0.75 < f.porosity < 0.85
+    with h5py.File(out, "r") as h5:
+        for key in ("mean_velocity_x", "pillar_force_x"):
+            assert np.array_equal(h5["observables/%s/value" % key][()], [s[key] for s in samples]), key
+    assert np.mean([s["mean_velocity_x"] for s in samples[50:]]) > 0  # driven along +x
+    types = np.array(f.types)
+    assert set(np.unique(types)) == {0, 1, 2} and f.positions.shape == (len(types), 2)  # fluid, solid, core
+    assert np.count_nonzero(types) == f.solid_particles
