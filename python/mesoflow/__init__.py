@@ -25,6 +25,30 @@ def initialize(threads=0):
     _mesoflow.initialize(int(threads))
 
 
+def run(scene, steps, every=100, callback=None, progress=False):
+    """Advances any stepped scene (hopper, crystal, capsule, pillar flow after equilibrate()) by `steps`
+    steps, `every` at a time; after each chunk callback(scene) is called, and False from it stops the
+    run there. progress=True shows a bar (tqdm where installed) in steps. Returns the steps done."""
+    if steps < 0 or every < 1:
+        raise ValueError("steps must be >= 0 and every >= 1, got %r and %r" % (steps, every))
+    from .droplets import _progress_bar
+    bar = _progress_bar(steps, "steps", progress)
+    done = 0
+    try:
+        while done < steps:
+            k = min(every, steps - done)
+            scene.advance(k)
+            done += k
+            if bar is not None:
+                bar.update(k)
+            if callback is not None and callback(scene) is False:
+                break
+    finally:
+        if bar is not None:
+            bar.close()
+    return done
+
+
 from . import droplets  # noqa: E402  (after initialize, which it uses)
 from . import hopper  # noqa: E402
 from . import crystal  # noqa: E402
@@ -32,6 +56,6 @@ from . import capsule  # noqa: E402
 from . import pillars  # noqa: E402
 from ._mesoflow import analysis  # noqa: E402  (host analysis on arrays; no Kokkos needed)
 
-__all__ = ["initialize", "finalize", "is_initialized", "kokkos_configuration", "host_backend", "droplets",
+__all__ = ["initialize", "finalize", "is_initialized", "kokkos_configuration", "host_backend", "run", "droplets",
            "hopper", "crystal", "capsule", "pillars",
            "analysis"]

@@ -49,3 +49,14 @@ def test_the_three_dimensional_hopper_steps():
     h.advance(500)
     assert h.positions.shape == (100, 3) and np.all(np.isfinite(h.positions))
     assert h.time == pytest.approx(500 * h.dt)
+
+
+def test_the_generic_run_calls_back_and_stops_when_told():
+    h = hopper.scene(particles=100, orifice=5.0, seed=1)
+    h.relax()
+    seen = []
+    done = mesoflow.run(h, 1000, every=100, callback=lambda s: seen.append(s.steps) or len(seen) < 3)
+    assert done == 300 and seen == [100, 200, 300] and h.steps == 300
+    assert mesoflow.run(h, 250, every=100) == 250 and h.steps == 550
+    with pytest.raises(ValueError):
+        mesoflow.run(h, 10, every=0)
