@@ -11,6 +11,7 @@ dt, force_dt), checked by the C++ validate() (ValueError naming the value). The 
 and the Ca/η sweeps are the `capsule` driver's.
 """
 from . import _mesoflow
+from ._params import fill
 
 _core = _mesoflow.capsule
 CapsuleSceneParameters = _core.CapsuleSceneParameters
@@ -19,12 +20,6 @@ _KEYS = ("sites", "spacing", "support", "rho0", "mu_outer", "mu_inner", "u_max",
 
 
 def scene(**kw):
-    bad = sorted(set(kw) - set(_KEYS))
-    if bad:
-        raise TypeError("capsule scene: unknown parameter%s %s; known: %s" % ("s" if len(bad) > 1 else "",
-                                                                              ", ".join(bad), ", ".join(_KEYS)))
-    p = CapsuleSceneParameters()
-    for k, v in kw.items():
-        setattr(p, k, tuple(v) if isinstance(v, list) else v)
+    p = fill("capsule scene", CapsuleSceneParameters(), kw, _KEYS, lambda k, v: tuple(v) if isinstance(v, list) else v)
     p.validate()
     return _core.CapsuleScene(p)

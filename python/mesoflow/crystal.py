@@ -10,6 +10,7 @@ rule ('srd', 'at_minus_a', 'at_plus_a'), srd_angle, body_acceleration, disc_radi
 wca_epsilon, wca_r0, seed, sort_interval, deterministic); the C++ scene checks them (ValueError).
 """
 from . import _mesoflow
+from ._params import fill
 
 _core = _mesoflow.crystal
 ChannelFlowParameters = _core.ChannelFlowParameters
@@ -20,15 +21,12 @@ _KEYS = ("length", "width", "walls", "cell_size", "density", "kT", "mass", "h", 
 
 
 def channel(disc_centres=(), **kw):
-    bad = sorted(set(kw) - set(_KEYS))
-    if bad:
-        raise TypeError("channel flow: unknown parameter%s %s; known: %s" % ("s" if len(bad) > 1 else "",
-                                                                             ", ".join(bad), ", ".join(_KEYS)))
-    p = ChannelFlowParameters()
-    for k, v in kw.items():
+    def rule(k, v):
         if k == "rule" and isinstance(v, str):
             if v not in ("srd", "at_minus_a", "at_plus_a"):
                 raise ValueError("rule must be one of srd, at_minus_a, at_plus_a, got %r" % (v,))
-            v = getattr(CollisionRule, v)
-        setattr(p, k, v)
+            return getattr(CollisionRule, v)
+        return v
+
+    p = fill("channel flow", ChannelFlowParameters(), kw, _KEYS, rule)
     return _core.ChannelFlow(p, [tuple(map(float, c)) for c in disc_centres])

@@ -11,6 +11,7 @@ import os
 import numpy as np
 
 from . import _mesoflow
+from ._params import check_keywords as _unknown
 
 _core = _mesoflow.droplets
 
@@ -36,13 +37,6 @@ _EARLY_KEYS = {"clog_sample_interval": "sample_interval", "clog_window": "window
 _SWEEP_KEYS = ("soft_particles", "vertices", "area_stiffness", "perimeter_ratio", "dp_wall_energy", "edge_contacts",
                "near_wall_drag", "terminal_speed", "dt", "force_dt", "box_length", "obstacle_diameter",
                "obstacle_fraction", "time_limit", "clog_threshold", "relax_iterations", "batch")
-
-
-def _unknown(kind, keys, allowed):
-    bad = sorted(set(keys) - set(allowed))
-    if bad:
-        raise TypeError("%s: unknown parameter%s %s; known: %s" % (kind, "s" if len(bad) > 1 else "", ", ".join(bad),
-                                                                    ", ".join(sorted(allowed))))
 
 
 def orifice_scene(perimeter_ratio=1e-3, **kw):
@@ -161,7 +155,7 @@ _RECORD_KEYS = ("clogged", "distance", "time", "final_x", "final_y", "steady_spe
                 "early_clogged", "early_distance", "early_time", "early_rate", "early_crossing")
 
 
-def _sweep_signature(sweep, points, replicas, seed, schedule, clog_test):
+def _sweep_signature(sweep, points, replicas, seed, clog_test):
     fields = {k: getattr(sweep, k) for k in _SWEEP_KEYS}
     fields.update({k: getattr(sweep.early, v) for k, v in _EARLY_KEYS.items()})
     fields.update(points=[list(p) for p in points], replicas=replicas, seed=seed, clog_test=clog_test)
@@ -191,7 +185,7 @@ def clogging_sweep(strengths, gaps, replicas, seed=1, checkpoint=None, progress=
         raise ValueError("strengths and gaps must not be empty")
     for s, g in points:
         sweep.check(s, g)
-    signature = _sweep_signature(sweep, points, replicas, seed, schedule, clog_test)
+    signature = _sweep_signature(sweep, points, replicas, seed, clog_test)  # the schedule changes no record
     done = {}
     if checkpoint is not None and os.path.exists(checkpoint):
         with open(checkpoint) as f:

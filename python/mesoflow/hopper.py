@@ -10,6 +10,7 @@ wall_energy, drag, friction, friction_component, dt, seed, force_dt), checked by
 validate(dimension): a value out of range raises ValueError naming it.
 """
 from . import _mesoflow
+from ._params import fill
 
 _core = _mesoflow.hopper
 HopperParameters = _core.HopperParameters
@@ -39,14 +40,7 @@ class Hopper:
 def scene(dimension=2, **kw):
     if dimension not in (2, 3):
         raise ValueError("dimension must be 2 or 3, got %r" % (dimension,))
-    bad = sorted(set(kw) - set(_KEYS))
-    if bad:
-        raise TypeError("hopper scene: unknown parameter%s %s; known: %s" % ("s" if len(bad) > 1 else "",
-                                                                             ", ".join(bad), ", ".join(_KEYS)))
-    p = HopperParameters()
-    for k, v in kw.items():
-        if k == "friction_component" and isinstance(v, str):
-            v = getattr(FrictionComponent, v)
-        setattr(p, k, v)
+    p = fill("hopper scene", HopperParameters(), kw, _KEYS,
+             lambda k, v: getattr(FrictionComponent, v) if k == "friction_component" and isinstance(v, str) else v)
     p.validate(dimension)
     return Hopper(p, dimension)

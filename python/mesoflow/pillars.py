@@ -13,6 +13,7 @@ paper's), driving_length, bin_width, density, A, B, r_B, R, dt, k_S, density_ker
 density_self_term, seed); the C++ layout and scene check them (ValueError).
 """
 from . import _mesoflow
+from ._params import fill
 
 _core = _mesoflow.pillars
 PillarRunParameters = _core.PillarRunParameters
@@ -24,11 +25,5 @@ _KEYS = ("layout", "porosity", "diameter", "cells_x", "cells_y", "pillars", "asp
 def flow(dimension=2, **kw):
     if dimension not in (2, 3):
         raise ValueError("dimension must be 2 or 3, got %r" % (dimension,))
-    bad = sorted(set(kw) - set(_KEYS))
-    if bad:
-        raise TypeError("pillar flow: unknown parameter%s %s; known: %s" % ("s" if len(bad) > 1 else "",
-                                                                           ", ".join(bad), ", ".join(_KEYS)))
-    p = PillarRunParameters()
-    for k, v in kw.items():
-        setattr(p, k, v)
+    p = fill("pillar flow", PillarRunParameters(), kw, _KEYS)
     return (_core.PillarFlow2D if dimension == 2 else _core.PillarFlow3D)(p)

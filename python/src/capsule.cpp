@@ -19,22 +19,7 @@ namespace {
 using Params = capsule::CapsuleSceneParameters;
 using Scene = capsule::CapsuleScene<double>;
 
-class PyCapsule : public Releasable {
- public:
-  explicit PyCapsule(const Params& p) {
-    require_kokkos();
-    p.validate();
-    scene_ = std::make_unique<Scene>(p);
-  }
-  void release() override { scene_.reset(); }
-  Scene& get() {
-    if (!scene_) throw std::runtime_error("mesoflow: this scene's data was released when Kokkos was finalised");
-    return *scene_;
-  }
-
- private:
-  std::unique_ptr<Scene> scene_;
-};
+using PyCapsule = Owned<Scene>;
 
 }  // namespace
 
@@ -71,17 +56,14 @@ void bind_capsule(py::module_& top) {
       .def_readwrite("force_dt", &Params::force_dt)
       .def("validate", &Params::validate);
   py::class_<PyCapsule>(m, "CapsuleScene", "The capsule in its fluid, at rest (or with its initial velocity)")
-      .def(py::init<const Params&>(), py::arg("parameters"))
+      .def(py::init([](const Params& p) {
+             p.validate();
+             return std::make_unique<PyCapsule>(p);
+           }),
+           py::arg("parameters"))
       .def(
           "advance",
-          [](PyCapsule& c, long long steps) {
-            if (steps < 0) throw std::invalid_argument("steps must be >= 0, got " + std::to_string(steps));
-            auto& s = c.get();
-            for (long long k = 0; k < steps; ++k) {
-              s.step();
-              if (k % 100 == 99 && PyErr_CheckSignals() != 0) throw py::error_already_set();
-            }
-          },
+          [](PyCapsule& c, long long steps) { advance_steps(c.get(), steps, 100); },
           py::arg("steps"))
       .def_property_readonly("steps", [](PyCapsule& c) { return c.get().steps(); })
       .def_property_readonly("dt", [](PyCapsule& c) { return double(c.get().system().dt()); })

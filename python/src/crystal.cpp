@@ -18,21 +18,7 @@ namespace {
 using Params = mpc::ChannelFlowParameters<double>;
 using Flow = mpc::ChannelFlow<double>;
 
-class PyChannel : public Releasable {
- public:
-  PyChannel(const Params& p, const std::vector<std::array<double, 2>>& discs) {
-    require_kokkos();
-    flow_ = std::make_unique<Flow>(p, discs);
-  }
-  void release() override { flow_.reset(); }
-  Flow& get() {
-    if (!flow_) throw std::runtime_error("mesoflow: this scene's data was released when Kokkos was finalised");
-    return *flow_;
-  }
-
- private:
-  std::unique_ptr<Flow> flow_;
-};
+using PyChannel = Owned<Flow>;
 
 }  // namespace
 
@@ -67,14 +53,7 @@ void bind_crystal(py::module_& top) {
            py::arg("disc_centres") = std::vector<std::array<double, 2>>{})
       .def(
           "advance",
-          [](PyChannel& c, long long steps) {
-            if (steps < 0) throw std::invalid_argument("steps must be >= 0, got " + std::to_string(steps));
-            auto& flow = c.get();
-            for (long long k = 0; k < steps; ++k) {
-              flow.step();
-              if (k % 200 == 199 && PyErr_CheckSignals() != 0) throw py::error_already_set();
-            }
-          },
+          [](PyChannel& c, long long steps) { advance_steps(c.get(), steps, 200); },
           py::arg("steps"))
       .def_property_readonly("time", [](PyChannel& c) { return c.get().time(); })
       .def_property_readonly("steps", [](PyChannel& c) { return (long long)c.get().steps_done(); })

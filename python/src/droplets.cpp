@@ -22,21 +22,7 @@ namespace {
 using droplets::OrificeRun;
 
 // One passage, owned by Python; its scene's Views are released before Kokkos is finalised.
-class PyOrificeRun : public Releasable {
- public:
-  explicit PyOrificeRun(const droplets::OrificeScene& scene) {
-    require_kokkos();
-    run_ = std::make_unique<OrificeRun<double>>(scene);
-  }
-  void release() override { run_.reset(); }
-  OrificeRun<double>& get() {
-    if (!run_) throw std::runtime_error("mesoflow: this run's data was released when Kokkos was finalised");
-    return *run_;
-  }
-
- private:
-  std::unique_ptr<OrificeRun<double>> run_;
-};
+using PyOrificeRun = Owned<OrificeRun<double>>;
 
 py::dict profile_dict(const droplets::OrificeProfile& p) {
   py::dict d;

@@ -17,21 +17,7 @@ namespace mesoflow::python {
 namespace {
 
 template <int D>
-class PyHopper : public Releasable {
- public:
-  explicit PyHopper(const hopper::HopperParameters& par) {
-    require_kokkos();
-    scene_ = std::make_unique<hopper::HopperScene<D>>(par);
-  }
-  void release() override { scene_.reset(); }
-  hopper::HopperScene<D>& get() {
-    if (!scene_) throw std::runtime_error("mesoflow: this scene's data was released when Kokkos was finalised");
-    return *scene_;
-  }
-
- private:
-  std::unique_ptr<hopper::HopperScene<D>> scene_;
-};
+using PyHopper = Owned<hopper::HopperScene<D>>;
 
 template <int D>
 void bind_scene(py::module_& m, const char* name) {
@@ -49,14 +35,7 @@ void bind_scene(py::module_& m, const char* name) {
           py::arg("max_iterations") = 50000, "FIRE removes the initial overlaps (no gravity)")
       .def(
           "advance",
-          [](S& s, long long steps) {
-            if (steps < 0) throw std::invalid_argument("steps must be >= 0, got " + std::to_string(steps));
-            auto& scene = s.get();
-            for (long long k = 0; k < steps; ++k) {
-              scene.step();
-              if (k % 1000 == 999 && PyErr_CheckSignals() != 0) throw py::error_already_set();
-            }
-          },
+          [](S& s, long long steps) { advance_steps(s.get(), steps, 1000); },
           py::arg("steps"), "steps the scene (velocity Verlet, contacts, friction, drag, recycling)")
       .def("set_gravity", [](S& s, bool on) { s.get().set_gravity(on); })
       .def_property_readonly("time", [](S& s) { return s.get().time(); })

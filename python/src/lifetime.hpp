@@ -11,6 +11,7 @@
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 
+#include <memory>
 #include <set>
 #include <stdexcept>
 #include <string>
@@ -30,6 +31,37 @@ class Releasable {
     return r;
   }
 };
+
+inline void require_kokkos();
+
+// A scene (or run) owned by Python: built once Kokkos runs, released before Kokkos is finalised.
+template <class T>
+class Owned : public Releasable {
+ public:
+  template <class... Args>
+  explicit Owned(const Args&... args) {
+    require_kokkos();
+    object_ = std::make_unique<T>(args...);
+  }
+  void release() override { object_.reset(); }
+  T& get() {
+    if (!object_) throw std::runtime_error("mesoflow: this object's data was released when Kokkos was finalised");
+    return *object_;
+  }
+
+ private:
+  std::unique_ptr<T> object_;
+};
+
+// `steps` steps of any scene with step(), checking for Ctrl-C every `signal_every` steps.
+template <class Scene>
+void advance_steps(Scene& scene, long long steps, long long signal_every = 100) {
+  if (steps < 0) throw std::invalid_argument("steps must be >= 0, got " + std::to_string(steps));
+  for (long long k = 0; k < steps; ++k) {
+    scene.step();
+    if (k % signal_every == signal_every - 1 && PyErr_CheckSignals() != 0) throw pybind11::error_already_set();
+  }
+}
 
 inline int& thread_count() {
   static int n = 0;

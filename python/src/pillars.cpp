@@ -18,22 +18,7 @@ namespace mesoflow::python {
 namespace {
 
 template <int D>
-class PyPillars : public Releasable {
- public:
-  explicit PyPillars(const pillars::PillarRunParameters& par) {
-    require_kokkos();
-    const auto layout = pillars::make_layout(par);
-    flow_ = std::make_unique<pillars::PillarFlow<D>>(pillars::flow_settings(par, layout, D));
-  }
-  void release() override { flow_.reset(); }
-  pillars::PillarFlow<D>& get() {
-    if (!flow_) throw std::runtime_error("mesoflow: this scene's data was released when Kokkos was finalised");
-    return *flow_;
-  }
-
- private:
-  std::unique_ptr<pillars::PillarFlow<D>> flow_;
-};
+using PyPillars = Owned<pillars::PillarFlow<D>>;
 
 // PillarFlow::run's output: each sample to a Python callback (a false return is not possible
 // mid-run: samples are recorded), nothing written to files.
@@ -56,7 +41,10 @@ template <int D>
 void bind_flow(py::module_& m, const char* name) {
   using S = PyPillars<D>;
   py::class_<S>(m, name, "MDPD fluid in a pillar array (built, not yet filled: call equilibrate())")
-      .def(py::init<const pillars::PillarRunParameters&>(), py::arg("parameters"))
+      .def(py::init([](const pillars::PillarRunParameters& par) {
+             return std::make_unique<S>(pillars::flow_settings(par, pillars::make_layout(par), D));
+           }),
+           py::arg("parameters"))
       .def("equilibrate", [](S& s, long long steps, long long check_every) { s.get().equilibrate_and_carve(steps, check_every); },
            py::arg("steps"), py::arg("check_every") = 100,
            "fills the box with fluid, equilibrates it without driving, carves the pillars out of it")

@@ -53,3 +53,33 @@ def test_decay_length_is_the_censored_maximum_likelihood_estimate():
     r, p = droplets.survival_curve([1.0, 2.0, 3.0, 6.0], [True, True, True, False])
     assert list(r) == [0.0, 1.0, 2.0, 3.0]
     assert list(p) == pytest.approx([1.0, 0.75, 0.5, 0.25])
+
+
+def test_after_finalize_every_scene_is_released_and_says_so():
+    # in a process of its own: Kokkos starts once per process
+    import subprocess
+    import sys
+    code = """
+import mesoflow
+from mesoflow import droplets, hopper
+mesoflow.initialize(threads=1)
+run = droplets.orifice(vertices=16, max_time=1.0)
+h = hopper.scene(particles=20, orifice=5.0)
+mesoflow.finalize()
+for f in (lambda: run.positions, lambda: h.advance(1)):
+    try:
+        f()
+    except RuntimeError as e:
+        assert "released when Kokkos was finalised" in str(e), e
+    else:
+        raise SystemExit("no error after finalize")
+try:
+    droplets.orifice(vertices=16)
+except RuntimeError as e:
+    assert "finalised" in str(e)
+else:
+    raise SystemExit("a new scene after finalize")
+print("ok")
+"""
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert out.returncode == 0 and out.stdout.strip() == "ok", out.stdout + out.stderr
