@@ -1,4 +1,4 @@
-"""GSD trajectories of droplet scenes with their shapes (issue 30; docs/python.md), for OVITO.
+"""GSD trajectories of droplet and hopper scenes with their shapes (issue 30; docs/python.md), for OVITO.
 
 GSD (Debian's python3-gsd, HOOMD-blue's format) stores per frame the particles and, per particle
 type, a shape (`particles/type_shapes`, JSON). Here every droplet is one particle at its polygon's
@@ -13,6 +13,14 @@ written into every frame (GSD keeps per-frame type_shapes).
     run = droplets.orifice(vertices=64)
     with OrificeGsd("orifice.gsd", run, every=20) as gsd:
         run.run(callback=gsd)
+
+Hopper scenes (`HopperGsd`): every soft particle a 'Disk' (2D) or 'Sphere' (3D) of its diameter;
+for the deformable-polygon hopper every vertex a 'Disk' of the vertex diameter δ — the rough DP
+model's contact shape itself — with `particles/body` its polygon.
+
+    h = hopper.dp_scene(particles=100); h.relax()
+    with HopperGsd("hopper.gsd", h) as gsd:
+        mesoflow.run(h, 20000, every=500, callback=gsd)
 """
 import numpy as np
 
@@ -134,3 +142,70 @@ def obstacle_array_gsd(path, centres, obstacle_diameter, box_length, droplets=()
     f = gsd.hoomd.open(path, "wb") if not hasattr(gsd.hoomd, "Frame") else gsd.hoomd.open(path, "w")
     f.append(s)
     f.close()
+
+
+# Particle diameters of the hopper study (scenes/hopper/hopper_scene.hpp: σ_s = 1/1.2, σ_l = 1.4/1.2 σ_avg).
+HOPPER_DIAMETERS = (1.0 / 1.2, 1.4 / 1.2)
+
+
+class HopperGsd:
+    """A callback for mesoflow.run(hopper scene, ...) that appends a GSD frame at every call (and one
+    at the start): types 'small' and 'large'. Soft particles are Disks (2D, z = 0) or Spheres (3D)
+    of the particle diameter; the deformable-polygon scene's vertices are Disks of the vertex
+    diameter δ, `particles/body` their polygon. The box is centred on the origin, as the hopper is
+    in x; its height covers every particle. Frames log time and crossings."""
+
+    def __init__(self, path, hopper_scene):
+        self.h = hopper_scene
+        self.file = gsd.hoomd.open(path, "wb") if not hasattr(gsd.hoomd, "Frame") else gsd.hoomd.open(path, "w")
+        self.frames = 0
+        self._append()
+
+    def _append(self):
+        h = self.h
+        x = np.array(h.positions, dtype=float)  # a copy: the view changes with the next step
+        types = np.array(h.types, dtype=np.uint32)
+        d = h.dimension
+        s = _snapshot()
+        s.configuration.step = int(h.steps)
+        s.configuration.dimensions = d
+        width = float(h.parameters.hopper_width) + 2.0
+        reach = 2.0 * float(np.abs(x).max()) + 2.0
+        s.configuration.box = [width if d == 2 else reach, reach, 0.0 if d == 2 else reach, 0.0, 0.0, 0.0]
+        s.particles.N = len(x)
+        s.particles.types = ["small", "large"]
+        s.particles.typeid = types
+        pos = np.zeros((len(x), 3), dtype=np.float32)
+        pos[:, :d] = x
+        s.particles.position = pos
+        if getattr(h, "model", "sp") == "dp":
+            diameters = tuple(h.vertex_diameters)
+            s.particles.body = np.array(h.bodies, dtype=np.int32)
+        else:
+            diameters = HOPPER_DIAMETERS
+        s.particles.diameter = np.array([diameters[t] for t in types], dtype=np.float32)
+        kind = "Disk" if d == 2 else "Sphere"
+        s.particles.type_shapes = [{"type": kind, "diameter": float(di)} for di in diameters]
+        s.log["time"] = np.array([h.time])
+        s.log["crossings"] = np.array([h.crossings])
+        self.file.append(s)
+        self.frames += 1
+        self._last_step = h.steps
+
+    def __call__(self, scene):
+        self._append()
+        return True
+
+    def close(self):
+        if self.file is not None:
+            if self.h.steps != self._last_step:
+                self._append()
+            self.file.close()
+            self.file = None
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+        return False

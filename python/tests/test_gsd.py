@@ -46,3 +46,46 @@ def test_an_obstacle_array_is_disks_of_the_obstacle_diameter(tmp_path):
     assert frame.particles.type_shapes[0] == {"type": "Disk", "diameter": 0.3}
     assert np.all(np.abs(frame.particles.position[:, :2]) <= 5.0)
     np.testing.assert_allclose(frame.particles.position[-1, :2], [0.0, 0.0], atol=1e-6)  # (5, 5) − L/2
+
+
+def test_hopper_frames_hold_every_particle_with_its_diameter(tmp_path):
+    import mesoflow
+    from mesoflow import hopper
+    from mesoflow.gsd_output import HOPPER_DIAMETERS, HopperGsd
+    path = str(tmp_path / "sp.gsd")
+    h = hopper.scene(particles=80, orifice=5.0, seed=2)
+    h.relax()
+    with HopperGsd(path, h) as out:
+        mesoflow.run(h, 600, every=200, callback=out)
+    f = gsd.hoomd.open(path, "rb")
+    assert len(f) == 4  # the start and three calls
+    frame = f[-1]
+    assert frame.configuration.step == 600 and frame.configuration.dimensions == 2
+    assert list(frame.particles.types) == ["small", "large"]
+    np.testing.assert_allclose(frame.particles.position[:, :2], np.array(h.positions), atol=1e-5)
+    types = np.array(h.types)
+    np.testing.assert_array_equal(frame.particles.typeid, types)
+    np.testing.assert_allclose(frame.particles.diameter, np.array(HOPPER_DIAMETERS)[types], rtol=1e-6)
+    assert [s["type"] for s in frame.particles.type_shapes] == ["Disk", "Disk"]
+    box = frame.configuration.box
+    assert np.all(np.abs(frame.particles.position[:, 0]) <= box[0] / 2)
+    assert np.all(np.abs(frame.particles.position[:, 1]) <= box[1] / 2)
+    assert frame.log["time"][0] == pytest.approx(h.time)
+
+
+def test_deformable_polygon_hopper_frames_are_vertex_disks_with_their_polygon(tmp_path):
+    from mesoflow import hopper
+    from mesoflow.gsd_output import HopperGsd
+    path = str(tmp_path / "dp.gsd")
+    d = hopper.dp_scene(particles=20, vertices=10, hopper_width=10.0, orifice=4.0, seed=5)
+    d.relax()
+    with HopperGsd(path, d) as out:
+        d.advance(300)
+    f = gsd.hoomd.open(path, "rb")
+    assert len(f) == 2  # the start and, at close, the last state
+    frame = f[-1]
+    assert frame.particles.N == 200
+    np.testing.assert_array_equal(frame.particles.body, np.repeat(np.arange(20), 10))
+    delta = d.vertex_diameters
+    np.testing.assert_allclose([s["diameter"] for s in frame.particles.type_shapes], delta, rtol=1e-6)
+    np.testing.assert_allclose(frame.particles.position[:, :2], np.array(d.positions), atol=1e-5)
