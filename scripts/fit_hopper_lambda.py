@@ -92,7 +92,7 @@ def main():
                "sets": {}}
     rows, mu_rows, qrows, curves = [], [], [], {}
     for arg in sys.argv[2:]:
-        label, runs = arg.split("=", 1)
+        label, runs = arg.rsplit("=", 1)
         runs, _, prefix = runs.partition("@")
         data = read_runs(runs, prefix or "lam")
         pts = []
@@ -183,7 +183,7 @@ def plot(out_dir, rows, curves):
     ax.set_xscale("log")
     ax.set_xlabel("λ = ζ/μ   (λ = 0 drawn at 3·10⁻⁴, ∞ at 3·10²)")
     ax.set_ylabel("β (eq. 1)")
-    ax.set_title("2D SP hopper, β(λ): solid free plateaus, dotted eq. 14", fontsize=9)
+    ax.set_title("β(λ), 2D hopper (θ_w = 90°): solid, sigmoid with free plateaus; dotted, eq. 14", fontsize=9)
     ax.legend(fontsize=8)
     fig.tight_layout()
     fig.savefig(os.path.join(out_dir, "beta_lambda.png"), dpi=120)

@@ -65,12 +65,13 @@ def test_the_generic_run_calls_back_and_stops_when_told():
 def test_the_deformable_polygon_hopper_refuses_bad_values_naming_them():
     with pytest.raises(ValueError, match="vertices N_v must be >= 8"):
         hopper.dp_scene(vertices=4)
-    with pytest.raises(ValueError, match=r"friction μ must be 0 with smooth contacts"):
-        hopper.dp_scene(smooth=True, friction=1.0)
+    with pytest.raises(ValueError, match=r"time step dt must be <= .* \(stability limit set by"):
+        hopper.dp_scene(smooth=True, friction=31.6, dt=1e-3)  # smooth with friction, above its step limit
     with pytest.raises(ValueError, match=r"orifice w must be in \(0, W\)"):
         hopper.dp_scene(orifice=-1.0)
     with pytest.raises(TypeError, match="unknown parameter pair_energy"):
         hopper.dp_scene(pair_energy=100.0)  # an SP keyword
+    assert hopper.dp_scene(particles=20, smooth=True, friction=1.0, dt=0).dt < 1e-3  # smooth with friction runs
 
 
 def test_the_deformable_polygon_hopper_flows_with_vertices_as_views():

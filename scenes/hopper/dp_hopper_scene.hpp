@@ -30,8 +30,9 @@
 // Step: modified velocity Verlet (λ = ½) with gravity (−y) on every vertex; shape forces (eq. 8:
 // area, segment springs, bending; no line tension) and gravity in one loop over vertices; vertex
 // contacts (eq. 9, rough or smooth) over a full neighbor list that excludes pairs of the same polygon;
-// kinetic friction between contacting vertices of different polygons (eq. 12, rough model only: the
-// smooth model refuses μ > 0, there being no vertex–edge friction kernel; skipped at μ = 0); vertex–wall repulsion (eq. 10) over each vertex's candidate walls, re-marked at every
+// kinetic friction between contacting vertices of different polygons (eq. 12; smooth model: between a
+// vertex and the material point of the edge it touches, kernels/dp/smooth_vertex_friction.hpp;
+// skipped at μ = 0); vertex–wall repulsion (eq. 10) over each vertex's candidate walls, re-marked at every
 // neighbor-list rebuild exactly as HopperScene does; uniform drag −(ζ/N_v) v per vertex (eq. 11,
 // kernels/dp/vertex_drag.hpp; skipped at ζ = 0). Friction and drag use the half-step velocity.
 // The vertices are never sorted in memory (kernels/common/particle_sort.hpp): dp::Polygons needs the
@@ -70,6 +71,7 @@
 #include "kernels/dp/segment_spring_force.hpp"
 #include "kernels/dp/shape_forces.hpp"
 #include "kernels/dp/smooth_vertex_contacts.hpp"
+#include "kernels/dp/smooth_vertex_friction.hpp"
 #include "scenes/common/term_list.hpp"
 #include "scenes/common/time_step_limit.hpp"
 #include "kernels/dp/stability.hpp"
@@ -166,9 +168,6 @@ struct DpHopperParameters {
     require(finite_nonnegative(wall_energy), "wall energy E_w", "finite and >= 0", wall_energy);
     require(finite_nonnegative(drag), "drag ζ", "finite and >= 0", drag);
     require(finite_nonnegative(friction), "friction μ", "finite and >= 0", friction);
-    // Eq. 12 between circulo-lines needs a vertex–edge friction kernel, which does not exist yet.
-    require(!smooth || friction == 0, "friction μ", "0 with smooth contacts (no vertex–edge friction kernel)",
-            friction);
     require(std::isfinite(dt) && dt >= 0, "time step dt", "finite and >= 0 (0: automatic)", dt);
     const auto limit = stability();
     cli::check_time_step("dp hopper scene", dt, {limit.max_dt(), limit.limiting_term()}, force_dt);
@@ -387,10 +386,8 @@ class DpHopperScene {
     terms_.term({"vertex–wall repulsion E_w", "eq. 10", false, par_.wall_energy != 0, alone([this] {
                    sp::accumulate_wall_repulsion(Real(par_.wall_energy), contacts_, walls_, p_, wall_candidates_);
                  })});
-    terms_.term({"kinetic friction μ", "eq. 12", true, par_.friction > 0, alone([this] {
-                   dp::accumulate_vertex_friction(Real(par_.friction), contacts_, p_, p_.v, list_, box_,
-                                                  par_.friction_component);
-                 })});
+    terms_.term({"kinetic friction μ", par_.smooth ? "eq. 12, vertex–edge (Appendix A contacts)" : "eq. 12", true,
+                 par_.friction > 0, alone([this] { friction_forces(p_.v); })});
     terms_.term({"vertex drag ζ", "eq. 11", true, par_.drag > 0,
                  alone([this] { dp::accumulate_vertex_drag(Real(par_.drag), polygons_, p_, p_.v); })});
     terms_.launch("shape loop (one kernel)",
@@ -408,9 +405,8 @@ class DpHopperScene {
     terms_.launch("circulo-line contact loop (full neighbor list)", {smooth}, [this](const vector_view&) {
       dp::accumulate_smooth_vertex_contacts(contacts_, polygons_, p_, list_, box_);
     });
-    terms_.launch("friction loop (full neighbor list)", {"kinetic friction μ"}, [this](const vector_view& u) {
-      dp::accumulate_vertex_friction(Real(par_.friction), contacts_, p_, u, list_, box_, par_.friction_component);
-    });
+    terms_.launch("friction loop (full neighbor list)", {"kinetic friction μ"},
+                  [this](const vector_view& u) { friction_forces(u); });
     terms_.launch("wall loop (candidate walls)", {"vertex–wall repulsion E_w"}, [this](const vector_view&) {
       sp::accumulate_wall_repulsion(Real(par_.wall_energy), contacts_, walls_, p_, wall_candidates_);
     });
@@ -501,6 +497,15 @@ class DpHopperScene {
 
   // f += shape and gravity forces (eq. 8 without line tension; bending only at K_b > 0); returns
   // their energy (gravity's −M g h included). `state_` must be current.
+  // Eq. 12 at velocity u: between vertex disks (rough) or vertex and edge (smooth).
+  void friction_forces(const typename particles_type::vector_view& u) {
+    if (par_.smooth)
+      dp::accumulate_smooth_vertex_friction(Real(par_.friction), contacts_, polygons_, p_, u, list_, box_,
+                                            par_.friction_component);
+    else
+      dp::accumulate_vertex_friction(Real(par_.friction), contacts_, p_, u, list_, box_, par_.friction_component);
+  }
+
   double shape_forces(bool with_gravity) {
     const dp::AreaElasticity<Real> area{Real(par_.area_stiffness)};
     const dp::SegmentSprings<Real> springs{Real(par_.perimeter_stiffness)};

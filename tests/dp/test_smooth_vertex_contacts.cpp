@@ -5,7 +5,12 @@
 // exchanges no net force; lists without same-body exclusion or too short for the longest edge are
 // refused. The finite-difference check runs in double; the rest on Serial and OpenMP in float and
 // double, against the brute force in double over the stored positions.
+// Kinetic friction on the same contacts (kernels/dp/smooth_vertex_friction.hpp): every vertex's force
+// equals a brute force of eq. 12 over (vertex, edge) contacts with the material point's velocity at
+// the edge parameter, full and tangential; the total is zero; the power is −μ Σ|Δv|² (≤ 0); a rigid
+// translation is not damped.
 #include "kernels/dp/smooth_vertex_contacts.hpp"
+#include "kernels/dp/smooth_vertex_friction.hpp"
 #include "finite_difference.hpp"
 #include "test_types.hpp"
 
@@ -75,6 +80,61 @@ struct Scene {
   double energy() {
     p.zero_forces();
     return accumulate_smooth_vertex_contacts(widths, polygons, p, list, box);
+  }
+
+  // Random vertex velocities in [−1, 1]² (seed 3), plus `drift` on every vertex.
+  void set_velocities(V2 drift = V2::zero()) {
+    std::mt19937 gen(3);
+    std::uniform_real_distribution<double> u(-1, 1);
+    auto v = Kokkos::create_mirror_view(p.v);
+    for (std::size_t i = 0; i < p.size(); ++i)
+      for (int d = 0; d < 2; ++d) v(i, d) = Real(u(gen) + drift[d]);
+    Kokkos::deep_copy(p.v, v);
+  }
+
+  // Eq. 12 on the circulo-line contacts, from the kernel (forces of a zeroed p.f).
+  void friction(double mu, sp::FrictionComponent c) {
+    p.zero_forces();
+    accumulate_smooth_vertex_friction(Real(mu), widths, polygons, p, p.v, list, box, c);
+  }
+
+  // The same by brute force over every (vertex, edge) pair of different particles, in double; also
+  // returns Σ|Δv_damped|² over the contacts and their count.
+  std::vector<V2> brute_friction(double mu, bool tangential, double& dissipation, int& contacts) const {
+    auto x = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), p.x);
+    auto v = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), p.v);
+    auto type = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), p.type);
+    auto wrap = [](V2 w) {
+      for (int d = 0; d < 2; ++d) w[d] -= kL * std::round(w[d] / kL);
+      return w;
+    };
+    auto vel = [&](int i) { return V2{{double(v(i, 0)), double(v(i, 1))}}; };
+    const int n = int(p.size());
+    std::vector<V2> f(std::size_t(n), V2::zero());
+    dissipation = 0, contacts = 0;
+    for (int q = 0; q < n; ++q)
+      for (int a = 0; a < n; ++a) {
+        if (q / kVertices == a / kVertices) continue;
+        const int b = (a / kVertices) * kVertices + (a % kVertices + 1) % kVertices;
+        const V2 l = wrap(V2{{double(x(b, 0)) - double(x(a, 0)), double(x(b, 1)) - double(x(a, 1))}});
+        const V2 aq = wrap(V2{{double(x(q, 0)) - double(x(a, 0)), double(x(q, 1)) - double(x(a, 1))}});
+        double t = dot(aq, l) / norm2(l);
+        const V2 gap = t >= 0 && t <= 1 ? aq - t * l : aq;
+        if (!(t >= 0 && t <= 1)) t = 0;
+        const double d = std::sqrt(norm2(gap)), w = double(widths.contact[type(q)][type(a)]);
+        if (!(d < w)) continue;
+        V2 dv = vel(q) - ((1 - t) * vel(a) + t * vel(b));
+        if (tangential) {
+          const V2 u = (1 / d) * gap;
+          dv -= dot(dv, u) * u;
+        }
+        f[std::size_t(q)] -= mu * dv;
+        f[std::size_t(a)] += ((1 - t) * mu) * dv;
+        f[std::size_t(b)] += (t * mu) * dv;
+        dissipation += norm2(dv);
+        ++contacts;
+      }
+    return f;
   }
 
   // Appendix A's rule by brute force over every (vertex, edge) pair of different particles.
@@ -158,6 +218,61 @@ TYPED_TEST(SmoothVertexContactsTest, RefusesListsThatCannotHoldTheContacts) {
   EXPECT_THROW(without_exclusion.energy(), std::invalid_argument);
   S too_short(0.1, BodyExclusion::same_body, 0.5 * S::edge(1.4));
   EXPECT_THROW(too_short.energy(), std::invalid_argument);
+}
+
+// Eq. 12 on the circulo-line contacts: each vertex's force against the brute force (in double over
+// the stored state; bound 64 ε of the largest force), Σ F = 0, and the power Σ F·v equal to
+// −μ Σ|Δv|² over the contacts, negative. Both the full and the tangential relative velocity.
+TYPED_TEST(SmoothVertexContactsTest, FrictionDampsTheVertexAgainstTheEdgesMaterialPoint) {
+  using Real = typename TypeParam::real;
+  Scene<Real, typename TypeParam::exec> s(0.3);
+  s.set_velocities();
+  const double mu = 0.7;
+  for (bool tangential : {false, true}) {
+    s.friction(mu, tangential ? sp::FrictionComponent::tangential : sp::FrictionComponent::full);
+    double dissipation = 0;
+    int contacts = 0;
+    const auto brute = s.brute_friction(mu, tangential, dissipation, contacts);
+    auto f = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), s.p.f);
+    auto v = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), s.p.v);
+    double worst = 0, largest = 0, total[2] = {0, 0}, magnitude = 0, power = 0;
+    for (std::size_t i = 0; i < f.extent(0); ++i)
+      for (int d = 0; d < 2; ++d) {
+        worst = std::max(worst, std::abs(double(f(i, d)) - brute[i][d]));
+        largest = std::max(largest, std::abs(brute[i][d]));
+        total[d] += double(f(i, d));
+        magnitude += std::abs(double(f(i, d)));
+        power += double(f(i, d)) * double(v(i, d));
+      }
+    std::cout << "[ smooth friction ] " << (sizeof(Real) == 4 ? "float" : "double") << (tangential ? ", tangential" : ", full")
+              << ": " << contacts << " contacts, max |F − brute| / max|F| = " << worst / largest
+              << ", |Σ F| = " << std::max(std::abs(total[0]), std::abs(total[1])) << ", power " << power
+              << " against −μ Σ|Δv|² = " << -mu * dissipation << "\n";
+    EXPECT_GE(contacts, 6);
+    EXPECT_GT(largest, 0.1);
+    EXPECT_LE(worst, 64 * testing::eps<Real>() * largest);
+    for (double t : total) EXPECT_LE(std::abs(t), 4 * testing::eps<Real>() * magnitude);
+    EXPECT_LT(power, 0);
+    EXPECT_NEAR(power, -mu * dissipation, 64 * testing::eps<Real>() * mu * dissipation);
+  }
+}
+
+// A rigid translation of the whole scene moves every vertex with its contact partners: no friction.
+TYPED_TEST(SmoothVertexContactsTest, FrictionLeavesARigidTranslationAlone) {
+  using Real = typename TypeParam::real;
+  Scene<Real, typename TypeParam::exec> s(0.3);
+  auto v = Kokkos::create_mirror_view(s.p.v);
+  for (std::size_t i = 0; i < s.p.size(); ++i) v(i, 0) = Real(0.8), v(i, 1) = Real(-0.3);
+  Kokkos::deep_copy(s.p.v, v);
+  s.friction(2.0, sp::FrictionComponent::full);
+  auto f = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), s.p.f);
+  double largest = 0;
+  for (std::size_t i = 0; i < f.extent(0); ++i)
+    for (int d = 0; d < 2; ++d) largest = std::max(largest, std::abs(double(f(i, d))));
+  EXPECT_LE(largest, 64 * testing::eps<Real>() * 2.0);  // (1 − t) v + t v rounds to v within ε
+  // and a list without same-body exclusion is refused, as for the contacts
+  Scene<Real, typename TypeParam::exec> without(0.1, BodyExclusion::none);
+  EXPECT_THROW(without.friction(1.0, sp::FrictionComponent::full), std::invalid_argument);
 }
 
 }  // namespace

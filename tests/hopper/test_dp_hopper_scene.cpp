@@ -134,6 +134,41 @@ TEST(DpHopperScene, SmoothContactsConserveMomentum) {
   EXPECT_LT(std::abs(e_after - e_before), 1e-3 * e_before);  // no dissipation: energy conserved
 }
 
+// Eq. 12 between vertices and circulo-line edges (kernels/dp/smooth_vertex_friction.hpp): the smooth
+// model with friction keeps the total momentum (no walls, no gravity) and loses energy E_k + U: 40
+// polygons in an 8σ box without walls touch rarely, so the loss is small: measured 1.19% over 0.32 t0
+// at μ = 10 (0.22% over 0.16 t0 at μ = 3), against 0.019% without friction (the test above, bound 0.1%).
+TEST(DpHopperScene, SmoothContactsWithFrictionConserveMomentumAndDissipate) {
+  DpHopperParameters par = small_hopper();
+  par.particles = 40;
+  par.hopper_width = 8;
+  par.wall_energy = 0;
+  par.friction = 10.0;
+  par.smooth = true;
+  Scene scene(par);
+  scene.relax();
+  scene.set_gravity(false);
+  std::mt19937 gen(4);
+  std::normal_distribution<double> g(0, 1);
+  std::vector<Vec<2, double>> v(scene.particles().size());
+  for (auto& vi : v) vi = Vec<2, double>{{g(gen), g(gen)}};
+  scene.set_velocities(v);
+  const auto m = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), scene.particles().mass);
+  double scale = 0;
+  for (std::size_t i = 0; i < v.size(); ++i) scale += m(i) * std::hypot(v[i][0], v[i][1]);
+  const auto before = momentum_and_energy(scene);
+  const double e_before = before[2] + scene.conservative_forces(false);
+  for (int k = 0; k < 2000; ++k) scene.step();
+  const auto after = momentum_and_energy(scene);
+  const double e_after = after[2] + scene.conservative_forces(false);
+  const double dp = std::hypot(after[0] - before[0], after[1] - before[1]);
+  std::cout << "[ dp hopper ] smooth with friction μ = 10: 2000 steps at dt = " << scene.dt() << ", |ΔP| = " << dp
+            << " against Σ M|v| = " << scale << "; E_k + U " << e_before << " → " << e_after << " ("
+            << 100 * (1 - e_after / e_before) << "% lost)\n";
+  EXPECT_LT(dp, 1e-11 * scale);
+  EXPECT_LT(e_after, (1 - 5e-3) * e_before);  // five times the frictionless run's bound
+}
+
 // Relative area errors of the polygons: the total Σa/Σa0 − 1, the mean of |a/a0 − 1| and the largest.
 std::array<double, 3> area_errors(Scene& s) {
   const auto& state = s.update_body_state();
@@ -310,7 +345,9 @@ TEST(DpHopperScene, RefusesBadParametersByName) {
   par = good;
   par.smooth = true;
   par.dt = 0;
-  par.friction = 1;
+  par.friction = 1;  // smooth with friction: the vertex–edge kernel exists
+  EXPECT_EQ(refusal(par), "");
+  par.friction = -1;
   expect_named(par, "friction μ");
   par = good;
   par.friction = 10 * std::sqrt(10.0);  // at dt = 10⁻³: beyond the friction limit
