@@ -5,8 +5,9 @@
 //     kinetic friction (eq. 6) and drag (eq. 5) on a dense bidisperse packing (σ_l/σ_s = 1.4,
 //     packing fraction ≈ 0.85, overlapping contacts): one force evaluation of a hopper step.
 //   BM_SoftParticleWallRepulsion2D: eq. 3 over the four walls of a 2D hopper, particles filling it.
-//   BM_DeformablePolygonContacts: rough (eq. 9 + friction eq. 12) and smooth (Appendix A) contacts
-//     of bidisperse 16-gons pressed against their neighbours on a square lattice.
+//   BM_DeformablePolygonContacts: rough (eq. 9 + friction eq. 12) and smooth (Appendix A) contacts,
+//     and smooth contacts with their vertex–edge friction (eq. 12, smooth_vertex_friction.hpp), of
+//     bidisperse 16-gons pressed against their neighbours on a square lattice.
 // Issue 24, item 3 (one pair loop): BM_PairLoop* time each contact term through the generic loop of
 // kernels/common/pair_force.hpp (last argument 0) against its model-specific loop as it was before
 // (1, benchmarks/reference_pair_loops.hpp), in the same run.
@@ -15,6 +16,7 @@
 #include "kernels/common/pair_force.hpp"
 #include "kernels/dp/polygons.hpp"
 #include "kernels/dp/smooth_vertex_contacts.hpp"
+#include "kernels/dp/smooth_vertex_friction.hpp"
 #include "kernels/dp/vertex_contacts.hpp"
 #include "kernels/sp/kinetic_friction.hpp"
 #include "kernels/sp/mass_proportional_drag.hpp"
@@ -135,10 +137,11 @@ void BM_SoftParticleWallRepulsion2D(benchmark::State& state) {
   });
 }
 
-// range(0): polygons; range(1): 0 rough (eqs. 9 + 12), 1 smooth (Appendix A).
+// range(0): polygons; range(1): 0 rough (eqs. 9 + 12), 1 smooth (Appendix A), 2 smooth with its
+// vertex–edge friction (Appendix A + eq. 12).
 void BM_DeformablePolygonContacts(benchmark::State& state) {
   const int bodies = int(state.range(0)), nv = 16;
-  const bool smooth = state.range(1) == 1;
+  const bool smooth = state.range(1) >= 1, smooth_friction = state.range(1) == 2;
   const int side = int(std::ceil(std::sqrt(double(bodies))));
   const double spacing = 1.15, L = side * spacing;  // σ_avg = 1.2: neighbours press on each other
   std::vector<int> counts(bodies, nv);
@@ -186,6 +189,7 @@ void BM_DeformablePolygonContacts(benchmark::State& state) {
       p.zero_forces();
       if (smooth) {
         dp::accumulate_smooth_vertex_contacts(contacts, polygons, p, list, box);
+        if (smooth_friction) dp::accumulate_smooth_vertex_friction(0.5, contacts, polygons, p, p.v, list, box);
       } else {
         dp::accumulate_vertex_contacts(contacts, p, list, box, pair);
         dp::accumulate_vertex_friction(0.5, contacts, p, p.v, list, box);
@@ -298,7 +302,7 @@ void BM_PairLoopSmoothVertexContacts(benchmark::State& state) {
 }
 
 BENCHMARK(BM_SoftParticleWallRepulsion2D)->Arg(20000)->UseManualTime()->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_DeformablePolygonContacts)->Args({1600, 0})->Args({1600, 1})->UseManualTime()->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_DeformablePolygonContacts)->Args({1600, 0})->Args({1600, 1})->Args({1600, 2})->UseManualTime()->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_SoftParticleContactForces2D)->Arg(1600)->Arg(20000)->UseManualTime()->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_SoftParticleKineticFriction2D)->Args({20000, 0})->Args({20000, 1})->UseManualTime()->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_PairLoopSoftSphere2D)->Args({20000, 0})->Args({20000, 1})->UseManualTime()->Unit(benchmark::kMillisecond);

@@ -35,6 +35,11 @@ def _snapshot():
     return gsd.hoomd.Frame() if hasattr(gsd.hoomd, "Frame") else gsd.hoomd.Snapshot()
 
 
+def _open_for_writing(path):
+    # gsd 2.x writes with mode "wb", gsd 3 with "w"
+    return gsd.hoomd.open(path, "w") if hasattr(gsd.hoomd, "Frame") else gsd.hoomd.open(path, "wb")
+
+
 def polygon_centroid(vertices):
     """Area centroid of a simple polygon (N, 2)."""
     x, y = vertices[:, 0], vertices[:, 1]
@@ -58,7 +63,26 @@ def orifice_wedges(width, size=3.0):
     return shapes
 
 
-class OrificeGsd:
+class _GsdWriter:
+    """close() appends the last state if _stale() says it is not written yet, then closes the file;
+    a context manager closes it on exit."""
+
+    def close(self):
+        if self.file is not None:
+            if self._stale():
+                self._append()
+            self.file.close()
+            self.file = None
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+        return False
+
+
+class OrificeGsd(_GsdWriter):
     """A callback for Orifice.run() that appends a GSD frame every `every` samples (and at the first
     and last one): particle 0 the droplet (type 'droplet', its polygon), particles 1 and 2 the wedges
     (type 'wedge_left', 'wedge_right'). Positions are 3D with z = 0, the box 2D."""
@@ -67,7 +91,7 @@ class OrificeGsd:
         if not isinstance(every, int) or every < 1:
             raise ValueError("every must be an integer >= 1, got %r" % (every,))
         self.run, self.every = run, every
-        self.file = gsd.hoomd.open(path, "wb") if not hasattr(gsd.hoomd, "Frame") else gsd.hoomd.open(path, "w")
+        self.file = _open_for_writing(path)
         self.wedges = orifice_wedges(run.scene.width)
         n_v = run.scene.droplet.vertices
         edge = np.pi / n_v  # l0 ≈ the circumference πσ over N_v
@@ -101,19 +125,8 @@ class OrificeGsd:
             self._append()
         return True
 
-    def close(self):
-        if self.file is not None:
-            if self.run.samples != self._last_sample:  # the last state, if not written yet
-                self._append()
-            self.file.close()
-            self.file = None
-
-    def __enter__(self):
-        return self
-
-    def __exit__(self, *exc):
-        self.close()
-        return False
+    def _stale(self):
+        return self.run.samples != self._last_sample
 
 
 def obstacle_array_gsd(path, centres, obstacle_diameter, box_length, droplets=()):
@@ -139,7 +152,7 @@ def obstacle_array_gsd(path, centres, obstacle_diameter, box_length, droplets=()
     p = p % box_length - box_length / 2
     s.particles.position = np.array([[a, b, 0.0] for a, b in p], dtype=np.float32)
     s.particles.type_shapes = shapes
-    f = gsd.hoomd.open(path, "wb") if not hasattr(gsd.hoomd, "Frame") else gsd.hoomd.open(path, "w")
+    f = _open_for_writing(path)
     f.append(s)
     f.close()
 
@@ -148,7 +161,7 @@ def obstacle_array_gsd(path, centres, obstacle_diameter, box_length, droplets=()
 HOPPER_DIAMETERS = (1.0 / 1.2, 1.4 / 1.2)
 
 
-class HopperGsd:
+class HopperGsd(_GsdWriter):
     """A callback for mesoflow.run(hopper scene, ...) that appends a GSD frame at every call (and one
     at the start): types 'small' and 'large'. Soft particles are Disks (2D, z = 0) or Spheres (3D)
     of the particle diameter; the deformable-polygon scene's vertices are Disks of the vertex
@@ -157,7 +170,7 @@ class HopperGsd:
 
     def __init__(self, path, hopper_scene):
         self.h = hopper_scene
-        self.file = gsd.hoomd.open(path, "wb") if not hasattr(gsd.hoomd, "Frame") else gsd.hoomd.open(path, "w")
+        self.file = _open_for_writing(path)
         self.frames = 0
         self._append()
 
@@ -196,16 +209,5 @@ class HopperGsd:
         self._append()
         return True
 
-    def close(self):
-        if self.file is not None:
-            if self.h.steps != self._last_step:
-                self._append()
-            self.file.close()
-            self.file = None
-
-    def __enter__(self):
-        return self
-
-    def __exit__(self, *exc):
-        self.close()
-        return False
+    def _stale(self):
+        return self.h.steps != self._last_step

@@ -18,26 +18,21 @@ namespace py = pybind11;
 namespace mesoflow::python {
 namespace {
 
-template <int D>
-using PyHopper = Owned<hopper::HopperScene<D>>;
-
-template <int D>
-void bind_scene(py::module_& m, const char* name) {
-  using S = PyHopper<D>;
-  py::class_<S>(m, name, "The soft-particle hopper scene (hopper-flows §2): built, particles placed at random")
-      .def(py::init<const hopper::HopperParameters&>(), py::arg("parameters"))
+// What both hopper scenes offer: FIRE, stepping, clock, crossing counts, the term list, and the
+// particles' (SP) or vertices' (DP) positions, velocities and types as arrays.
+template <class S>
+py::class_<S>& bind_common(py::class_<S>& c, int max_iterations, long long signal_every, const char* crossed) {
+  c.def(
+       "relax",
+       [](S& s, int max_iter) {
+         const auto r = s.get().relax(max_iter);
+         py::dict d;
+         d["converged"] = r.converged, d["iterations"] = r.iterations, d["max_force"] = r.max_force;
+         return d;
+       },
+       py::arg("max_iterations") = max_iterations, "FIRE removes the initial overlaps (no gravity)")
       .def(
-          "relax",
-          [](S& s, int max_iterations) {
-            const auto r = s.get().relax(max_iterations);
-            py::dict d;
-            d["converged"] = r.converged, d["iterations"] = r.iterations, d["max_force"] = r.max_force;
-            return d;
-          },
-          py::arg("max_iterations") = 50000, "FIRE removes the initial overlaps (no gravity)")
-      .def(
-          "advance",
-          [](S& s, long long steps) { advance_steps(s.get(), steps, 1000); },
+          "advance", [signal_every](S& s, long long steps) { advance_steps(s.get(), steps, signal_every); },
           py::arg("steps"), "steps the scene (velocity Verlet, contacts, friction, drag, recycling)")
       .def("set_gravity", [](S& s, bool on) { s.get().set_gravity(on); })
       .def_property_readonly("time", [](S& s) { return s.get().time(); })
@@ -45,65 +40,42 @@ void bind_scene(py::module_& m, const char* name) {
       .def_property_readonly("dt", [](S& s) { return s.get().dt(); })
       .def_property_readonly("crossings", [](S& s) { return s.get().crossings(); },
                              "particles that have left through the orifice (and been reinserted)")
-      .def_property_readonly("crossed_measure", [](S& s) { return s.get().crossed_measure(); },
-                             "their total area (2D) or volume (3D), σ_avg units")
+      .def_property_readonly("crossed_measure", [](S& s) { return s.get().crossed_measure(); }, crossed)
       .def_property_readonly("insertions", [](S& s) { return s.get().insertions(); })
       .def_property_readonly("components", [](S& s) { return s.get().components(); })
       .def_property_readonly(
           "positions", [](py::object self) { return numpy_view(self.cast<S&>().get().particles().x, self); },
-          "particle positions (N, D): a view of the scene's memory on host backends, a copy on devices")
+          "positions (rows, D): a view of the scene's memory on host backends, a copy on devices")
       .def_property_readonly(
           "velocities", [](py::object self) { return numpy_view(self.cast<S&>().get().particles().v, self); })
-      .def_property_readonly(
-          "ids", [](py::object self) { return numpy_view(self.cast<S&>().get().ids(), self); },
-          "each row's particle id (rows are re-sorted by cell during the run)")
       .def_property_readonly(
           "types", [](py::object self) { return numpy_view(self.cast<S&>().get().particles().type, self); },
           "each row's particle type: 0 small (σ_s = 1/1.2 σ_avg), 1 large (1.4/1.2 σ_avg)");
+  return c;
 }
 
-using PyDpHopper = Owned<hopper::DpHopperScene<>>;
+template <int D>
+void bind_scene(py::module_& m, const char* name) {
+  using S = Owned<hopper::HopperScene<D>>;
+  py::class_<S> c(m, name, "The soft-particle hopper scene (hopper-flows §2): built, particles placed at random");
+  c.def(py::init<const hopper::HopperParameters&>(), py::arg("parameters"));
+  bind_common(c, 50000, 1000, "their total area (2D) or volume (3D), σ_avg units")
+      .def_property_readonly(
+          "ids", [](py::object self) { return numpy_view(self.cast<S&>().get().ids(), self); },
+          "each row's particle id (rows are re-sorted by cell during the run)");
+}
 
+// Vertices: polygon b's in rows [b N_v, (b + 1) N_v), counter-clockwise.
 void bind_dp_scene(py::module_& m) {
-  using S = PyDpHopper;
-  py::class_<S>(m, "DpHopperScene",
-                "The deformable-polygon hopper scene (hopper-flows §2.3, 2D): built, polygons placed at random")
-      .def(py::init<const hopper::DpHopperParameters&>(), py::arg("parameters"))
-      .def(
-          "relax",
-          [](S& s, int max_iterations) {
-            const auto r = s.get().relax(max_iterations);
-            py::dict d;
-            d["converged"] = r.converged, d["iterations"] = r.iterations, d["max_force"] = r.max_force;
-            return d;
-          },
-          py::arg("max_iterations") = 20000, "FIRE removes the initial overlaps (no gravity)")
-      .def(
-          "advance", [](S& s, long long steps) { advance_steps(s.get(), steps, 100); }, py::arg("steps"),
-          "steps the scene (velocity Verlet; shape, contacts, walls, friction, drag; recycling)")
-      .def("set_gravity", [](S& s, bool on) { s.get().set_gravity(on); })
-      .def_property_readonly("time", [](S& s) { return s.get().time(); })
-      .def_property_readonly("steps", [](S& s) { return s.get().steps(); })
-      .def_property_readonly("dt", [](S& s) { return s.get().dt(); })
-      .def_property_readonly("crossings", [](S& s) { return s.get().crossings(); },
-                             "polygons that have left through the orifice (and been reinserted)")
-      .def_property_readonly("crossed_measure", [](S& s) { return s.get().crossed_measure(); },
-                             "their total preferred area, σ_avg² units")
-      .def_property_readonly("insertions", [](S& s) { return s.get().insertions(); })
-      .def_property_readonly("components", [](S& s) { return s.get().components(); })
+  using S = Owned<hopper::DpHopperScene<>>;
+  py::class_<S> c(m, "DpHopperScene",
+                  "The deformable-polygon hopper scene (hopper-flows §2.3, 2D): built, polygons placed at random");
+  c.def(py::init<const hopper::DpHopperParameters&>(), py::arg("parameters"));
+  bind_common(c, 20000, 100, "the polygons' total preferred area, σ_avg² units")
       .def_property_readonly("vertices_per_polygon", [](S& s) { return s.get().parameters().vertices; })
-      .def_property_readonly(
-          "positions", [](py::object self) { return numpy_view(self.cast<S&>().get().particles().x, self); },
-          "vertex positions (N N_v, 2), polygon b's vertices in rows [b N_v, (b + 1) N_v), counter-clockwise: "
-          "a view of the scene's memory on host backends, a copy on devices")
-      .def_property_readonly(
-          "velocities", [](py::object self) { return numpy_view(self.cast<S&>().get().particles().v, self); })
       .def_property_readonly(
           "bodies", [](py::object self) { return numpy_view(self.cast<S&>().get().polygons().body, self); },
           "the polygon of each vertex")
-      .def_property_readonly(
-          "types", [](py::object self) { return numpy_view(self.cast<S&>().get().particles().type, self); },
-          "each vertex's polygon type: 0 small, 1 large")
       .def_property_readonly(
           "vertex_diameters",
           [](S& s) {

@@ -100,13 +100,19 @@ TEST(DpHopperScene, ShapeContactsAndFrictionConserveMomentum) {
   EXPECT_LT(dp, 1e-11 * scale);
 }
 
-TEST(DpHopperScene, SmoothContactsConserveMomentum) {
-  const auto start = std::chrono::steady_clock::now();
+// 40 smooth polygons at friction μ in an 8σ box without walls or gravity, random velocities (seed 4),
+// `steps` steps: the change of total momentum against Σ M|v|, and E_k + U before and after. Without
+// gravity or dissipation the forces of a step are the conservative ones, so recomputing them for the
+// energy leaves the next step unchanged.
+struct SmoothRun {
+  double dp, scale, e_before, e_after, dt;
+};
+SmoothRun run_smooth_polygons(double friction, int steps) {
   DpHopperParameters par = small_hopper();
   par.particles = 40;
   par.hopper_width = 8;
   par.wall_energy = 0;
-  par.friction = 0;
+  par.friction = friction;
   par.smooth = true;
   Scene scene(par);
   scene.relax();
@@ -117,56 +123,35 @@ TEST(DpHopperScene, SmoothContactsConserveMomentum) {
   for (auto& vi : v) vi = Vec<2, double>{{g(gen), g(gen)}};
   scene.set_velocities(v);
   const auto m = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), scene.particles().mass);
-  double scale = 0;
-  for (std::size_t i = 0; i < v.size(); ++i) scale += m(i) * std::hypot(v[i][0], v[i][1]);
-  // Without gravity or dissipation the forces of a step are the conservative ones, so recomputing
-  // them for the energy leaves the next step unchanged.
+  SmoothRun r{};
+  for (std::size_t i = 0; i < v.size(); ++i) r.scale += m(i) * std::hypot(v[i][0], v[i][1]);
   const auto before = momentum_and_energy(scene);
-  const double e_before = before[2] + scene.conservative_forces(false);
-  for (int k = 0; k < 1000; ++k) scene.step();
+  r.e_before = before[2] + scene.conservative_forces(false);
+  for (int k = 0; k < steps; ++k) scene.step();
   const auto after = momentum_and_energy(scene);
-  const double e_after = after[2] + scene.conservative_forces(false);
-  const double dp = std::hypot(after[0] - before[0], after[1] - before[1]);
-  std::cout << "[ dp hopper ] smooth momentum: 1000 steps at dt = " << scene.dt() << ", |ΔP| = " << dp
-            << " against Σ M|v| = " << scale << "; E_k " << before[2] << " → " << after[2] << ", E_k + U " << e_before
-            << " → " << e_after << " (" << seconds_since(start) << " s)\n";
-  EXPECT_LT(dp, 1e-11 * scale);
-  EXPECT_LT(std::abs(e_after - e_before), 1e-3 * e_before);  // no dissipation: energy conserved
+  r.e_after = after[2] + scene.conservative_forces(false);
+  r.dp = std::hypot(after[0] - before[0], after[1] - before[1]);
+  r.dt = scene.dt();
+  std::cout << "[ dp hopper ] smooth, μ = " << friction << ": " << steps << " steps at dt = " << r.dt << ", |ΔP| = "
+            << r.dp << " against Σ M|v| = " << r.scale << "; E_k + U " << r.e_before << " → " << r.e_after << " ("
+            << 100 * (1 - r.e_after / r.e_before) << "% lost)\n";
+  return r;
+}
+
+TEST(DpHopperScene, SmoothContactsConserveMomentum) {
+  const auto r = run_smooth_polygons(0, 1000);
+  EXPECT_LT(r.dp, 1e-11 * r.scale);
+  EXPECT_LT(std::abs(r.e_after - r.e_before), 1e-3 * r.e_before);  // no dissipation: energy conserved
 }
 
 // Eq. 12 between vertices and circulo-line edges (kernels/dp/smooth_vertex_friction.hpp): the smooth
-// model with friction keeps the total momentum (no walls, no gravity) and loses energy E_k + U: 40
-// polygons in an 8σ box without walls touch rarely, so the loss is small: measured 1.19% over 0.32 t0
-// at μ = 10 (0.22% over 0.16 t0 at μ = 3), against 0.019% without friction (the test above, bound 0.1%).
+// model with friction keeps the total momentum and loses energy E_k + U. The 40 polygons touch
+// rarely, so the loss is small: measured 1.19% over 0.32 t0 at μ = 10, against 0.019% over 0.16 t0
+// without friction (the test above, bound 0.1%).
 TEST(DpHopperScene, SmoothContactsWithFrictionConserveMomentumAndDissipate) {
-  DpHopperParameters par = small_hopper();
-  par.particles = 40;
-  par.hopper_width = 8;
-  par.wall_energy = 0;
-  par.friction = 10.0;
-  par.smooth = true;
-  Scene scene(par);
-  scene.relax();
-  scene.set_gravity(false);
-  std::mt19937 gen(4);
-  std::normal_distribution<double> g(0, 1);
-  std::vector<Vec<2, double>> v(scene.particles().size());
-  for (auto& vi : v) vi = Vec<2, double>{{g(gen), g(gen)}};
-  scene.set_velocities(v);
-  const auto m = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), scene.particles().mass);
-  double scale = 0;
-  for (std::size_t i = 0; i < v.size(); ++i) scale += m(i) * std::hypot(v[i][0], v[i][1]);
-  const auto before = momentum_and_energy(scene);
-  const double e_before = before[2] + scene.conservative_forces(false);
-  for (int k = 0; k < 2000; ++k) scene.step();
-  const auto after = momentum_and_energy(scene);
-  const double e_after = after[2] + scene.conservative_forces(false);
-  const double dp = std::hypot(after[0] - before[0], after[1] - before[1]);
-  std::cout << "[ dp hopper ] smooth with friction μ = 10: 2000 steps at dt = " << scene.dt() << ", |ΔP| = " << dp
-            << " against Σ M|v| = " << scale << "; E_k + U " << e_before << " → " << e_after << " ("
-            << 100 * (1 - e_after / e_before) << "% lost)\n";
-  EXPECT_LT(dp, 1e-11 * scale);
-  EXPECT_LT(e_after, (1 - 5e-3) * e_before);  // five times the frictionless run's bound
+  const auto r = run_smooth_polygons(10, 2000);
+  EXPECT_LT(r.dp, 1e-11 * r.scale);
+  EXPECT_LT(r.e_after, (1 - 5e-3) * r.e_before);  // five times the frictionless run's bound
 }
 
 // Relative area errors of the polygons: the total Σa/Σa0 − 1, the mean of |a/a0 − 1| and the largest.
