@@ -52,6 +52,14 @@ def read_runs(runs, prefix="lam"):
     return out
 
 
+def run_dimension(runs, prefix="lam"):
+    """The spatial dimension the runs were made in (the driver's JSON), 2 where none says."""
+    for path in sorted(glob.glob(os.path.join(runs, prefix + "*_s*.json"))):
+        with open(path) as f:
+            return int(json.load(f).get("dimension", 2))
+    return 2
+
+
 def seed_mean_fit(label, key, value, seeds, qrows):
     """Q(w) averaged over the seeds (error σ/√n from their spread), Beverloo's eq. 1 fitted to it."""
     widths = sorted({r[0] for rs in seeds.values() for r in rs})
@@ -95,6 +103,7 @@ def main():
         label, runs = arg.rsplit("=", 1)
         runs, _, prefix = runs.partition("@")
         data = read_runs(runs, prefix or "lam")
+        dim = run_dimension(runs, prefix or "lam")
         pts = []
         for lam_text in sorted(data, key=lam_value):
             row = seed_mean_fit(label, "lambda", lam_text, data[lam_text], qrows)
@@ -108,11 +117,11 @@ def main():
                 mus["31.6227766"] = data["0"]
             for mu_text in sorted(mus, key=float):
                 mu_rows.append(seed_mean_fit(label, "mu", mu_text, mus[mu_text], qrows))
-        s = {"points": len(pts)}
+        s = {"points": len(pts), "dimension": dim}
         finite = [(l, b, e) for l, b, e in pts if 0 < l < math.inf]
         if len(finite) >= 3:
             lam, beta, err = (list(v) for v in zip(*finite))
-            sig = analysis.fit_beta_sigmoid(lam, beta, err, 2)
+            sig = analysis.fit_beta_sigmoid(lam, beta, err, dim)
             s["eq14_fixed_plateaus"] = sig
             try:
                 from scipy.optimize import curve_fit
@@ -126,10 +135,10 @@ def main():
                                       "lambda_c": 10 ** popt[2], "stretch": popt[3], "stretch_error": perr[3],
                                       "chi2": float(np.sum(((free_sigmoid(x, *popt) - beta) / err) ** 2)),
                                       "dof": len(lam) - 4}
-                curves[label] = (popt, sig)
+                curves[label] = (popt, sig, dim)
             except Exception as e:  # too few points or no convergence: reported, not hidden
                 s["free_plateaus"] = {"error": str(e)}
-                curves[label] = (None, sig)
+                curves[label] = (None, sig, dim)
         summary["sets"][label] = s
     keys = ["set", "lambda", "seeds", "widths_fitted", "widths_clogged", "C", "C_error", "k", "k_error", "beta",
             "beta_error", "chi2_per_dof", "converged"]
@@ -171,19 +180,21 @@ def plot(out_dir, rows, curves):
              else lam_value(r["lambda"]) for r in rs]
         line = ax.errorbar(x, [r["beta"] for r in rs], yerr=[r["beta_error"] for r in rs], fmt=markers[i % 5],
                            capsize=2, label=label)
-        popt, sig = curves.get(label, (None, None))
+        popt, sig, dim = curves.get(label, (None, None, 2))
         xs = np.logspace(-3, 2, 200)
         if popt is not None:
             ax.plot(xs, free_sigmoid(np.log10(xs), *popt), color=line[0].get_color(), lw=1)
         if sig is not None:
-            ax.plot(xs, [analysis.beta_sigmoid(v, 2, sig["lambda_c"], sig["stretch"]) for v in xs],
+            ax.plot(xs, [analysis.beta_sigmoid(v, dim, sig["lambda_c"], sig["stretch"]) for v in xs],
                     color=line[0].get_color(), lw=1, ls=":")
-    for b in (1.5, 0.5):
+    dims = sorted({c[2] for c in curves.values()}) or [2]
+    for b in sorted({v for d in dims for v in (d - 0.5, d - 1.5)}):
         ax.axhline(b, color="gray", ls="--", lw=0.8)
     ax.set_xscale("log")
     ax.set_xlabel("λ = ζ/μ   (λ = 0 drawn at 3·10⁻⁴, ∞ at 3·10²)")
     ax.set_ylabel("β (eq. 1)")
-    ax.set_title("β(λ), 2D hopper (θ_w = 90°): solid, sigmoid with free plateaus; dotted, eq. 14", fontsize=9)
+    ax.set_title("β(λ), %s hopper (θ_w = 90°): solid, sigmoid with free plateaus; dotted, eq. 14"
+                 % " and ".join("%dD" % d for d in dims), fontsize=9)
     ax.legend(fontsize=8)
     fig.tight_layout()
     fig.savefig(os.path.join(out_dir, "beta_lambda.png"), dpi=120)

@@ -33,17 +33,16 @@ namespace mesoflow::dp {
 
 namespace smooth_contact_detail {
 
-// Contact of point q with the edge a → b (Appendix A): returns false without contact; otherwise the
-// magnitude f = −dU/dδ, the unit direction u = ∂δ/∂q, the edge parameter t (0 at a cap) and U.
+// Contact of point q with the edge from a along l (l = b − a, minimum image, |l|² = l2: the pair
+// loop computes a row's own two edges once per row, not once per pair) (Appendix A): returns false
+// without contact; otherwise the magnitude f = −dU/dδ, the unit direction u = ∂δ/∂q, the edge
+// parameter t (0 at a cap) and U.
 template <class Real>
-KOKKOS_INLINE_FUNCTION bool contact(const Vec<2, Real>& q, const Vec<2, Real>& a, const Vec<2, Real>& b,
-                                    const Box<2, Real>& box, Real width, Real epsilon, Real& f, Vec<2, Real>& u,
-                                    Real& t, Real& energy) {
-  Vec<2, Real> l = b - a;
-  box.minimum_image(l);
+KOKKOS_FORCEINLINE_FUNCTION bool contact_along(const Vec<2, Real>& q, const Vec<2, Real>& a, const Vec<2, Real>& l,
+                                               Real l2, const Box<2, Real>& box, Real width, Real epsilon, Real& f,
+                                               Vec<2, Real>& u, Real& t, Real& energy) {
   Vec<2, Real> aq = q - a;
   box.minimum_image(aq);
-  const Real l2 = norm2(l);
   t = l2 > Real(0) ? dot(aq, l) / l2 : Real(-1);
   Vec<2, Real> gap = aq;
   if (t >= Real(0) && t <= Real(1))
@@ -58,6 +57,23 @@ KOKKOS_INLINE_FUNCTION bool contact(const Vec<2, Real>& q, const Vec<2, Real>& a
   u = (Real(1) / d) * gap;
   energy = Real(0.5) * epsilon * overlap * overlap;
   return true;
+}
+
+// The edge vector b − a, minimum image.
+template <class Real>
+KOKKOS_FORCEINLINE_FUNCTION Vec<2, Real> edge(const Vec<2, Real>& a, const Vec<2, Real>& b, const Box<2, Real>& box) {
+  Vec<2, Real> l = b - a;
+  box.minimum_image(l);
+  return l;
+}
+
+// Contact of point q with the edge a → b: contact_along with l = b − a.
+template <class Real>
+KOKKOS_FORCEINLINE_FUNCTION bool contact(const Vec<2, Real>& q, const Vec<2, Real>& a, const Vec<2, Real>& b,
+                                         const Box<2, Real>& box, Real width, Real epsilon, Real& f, Vec<2, Real>& u,
+                                         Real& t, Real& energy) {
+  const Vec<2, Real> l = edge(a, b, box);
+  return contact_along(q, a, l, norm2(l), box, width, epsilon, f, u, t, energy);
 }
 
 }  // namespace smooth_contact_detail
@@ -96,18 +112,25 @@ struct SmoothVertexContactEvaluator : PairEvaluatorTraits {
   Kokkos::View<int*, ExecSpace> type;
   Box<2, Real> box;
 
+  // Row i: its position, its own two edges i → next(i) and prev(i) → i with their squared lengths
+  // (computed once per row), its type and its force.
   struct Row {
-    Vec<2, Real> xi, x_next, x_prev;
+    Vec<2, Real> xi, x_prev, l_next, l_prev;
+    Real l2_next, l2_prev;
     int ti;
     Vec<2, Real> fi;
   };
   KOKKOS_INLINE_FUNCTION Row begin(FullList, int i) const {
+    using smooth_contact_detail::edge;
     const int bi = body(i), begin_i = offset(bi), n_i = offset(bi + 1) - begin_i;
-    return {Vec<2, Real>::load(x, i), Vec<2, Real>::load(x, next_vertex(i, 1, begin_i, n_i)),
-            Vec<2, Real>::load(x, prev_vertex(i, 1, begin_i, n_i)), type(i), Vec<2, Real>::zero()};
+    const Vec<2, Real> xi = Vec<2, Real>::load(x, i), x_prev = Vec<2, Real>::load(x, prev_vertex(i, 1, begin_i, n_i));
+    const Vec<2, Real> l_next = edge(xi, Vec<2, Real>::load(x, next_vertex(i, 1, begin_i, n_i)), box);
+    const Vec<2, Real> l_prev = edge(x_prev, xi, box);
+    return {xi, x_prev, l_next, l_prev, norm2(l_next), norm2(l_prev), type(i), Vec<2, Real>::zero()};
   }
   KOKKOS_INLINE_FUNCTION void operator()(FullList, Row& s, int, int j, const Vec<2, Real>&, Real, double& acc) const {
     using smooth_contact_detail::contact;
+    using smooth_contact_detail::contact_along;
     const Real width = widths.contact[s.ti][type(j)];
     const Vec<2, Real> xj = Vec<2, Real>::load(x, j);
     Real fm, t, e;
@@ -120,9 +143,10 @@ struct SmoothVertexContactEvaluator : PairEvaluatorTraits {
       acc += double(e);
     }
     // (b) i the first vertex of its edge i → next(i), against the point j.
-    if (contact(xj, s.xi, s.x_next, box, width, widths.epsilon, fm, u, t, e)) s.fi += (-(Real(1) - t) * fm) * u;
+    if (contact_along(xj, s.xi, s.l_next, s.l2_next, box, width, widths.epsilon, fm, u, t, e))
+      s.fi += (-(Real(1) - t) * fm) * u;
     // (c) i the second vertex of its edge prev(i) → i, against the point j (no share at a cap).
-    if (contact(xj, s.x_prev, s.xi, box, width, widths.epsilon, fm, u, t, e)) s.fi += (-t * fm) * u;
+    if (contact_along(xj, s.x_prev, s.l_prev, s.l2_prev, box, width, widths.epsilon, fm, u, t, e)) s.fi += (-t * fm) * u;
   }
   KOKKOS_INLINE_FUNCTION void end(FullList, Row& s, int i, double&) const {
     for (int d = 0; d < 2; ++d) f(i, d) += s.fi[d];

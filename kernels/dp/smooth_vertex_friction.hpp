@@ -47,17 +47,32 @@ struct SmoothVertexFrictionEvaluator : PairEvaluatorTraits {
   Box<2, Real> box;
   bool tangential;
 
+  // Row i: as the contacts' row (its own two edges once per row), with the velocities of i and of
+  // its two edge neighbours.
   struct Row {
-    Vec<2, Real> xi, x_next, x_prev, vi, v_next, v_prev;
+    Vec<2, Real> xi, x_prev, l_next, l_prev;
+    Real l2_next, l2_prev;
+    Vec<2, Real> vi, v_next, v_prev;
     int ti;
     Vec<2, Real> fi;
   };
   KOKKOS_INLINE_FUNCTION Row begin(FullList, int i) const {
+    using smooth_contact_detail::edge;
     const int bi = body(i), begin_i = offset(bi), n_i = offset(bi + 1) - begin_i;
     const int next = next_vertex(i, 1, begin_i, n_i), prev = prev_vertex(i, 1, begin_i, n_i);
-    return {Vec<2, Real>::load(x, i), Vec<2, Real>::load(x, next), Vec<2, Real>::load(x, prev),
-            Vec<2, Real>::load(v, i), Vec<2, Real>::load(v, next), Vec<2, Real>::load(v, prev),
-            type(i),                  Vec<2, Real>::zero()};
+    const Vec<2, Real> xi = Vec<2, Real>::load(x, i), x_prev = Vec<2, Real>::load(x, prev);
+    const Vec<2, Real> l_next = edge(xi, Vec<2, Real>::load(x, next), box), l_prev = edge(x_prev, xi, box);
+    return {xi,
+            x_prev,
+            l_next,
+            l_prev,
+            norm2(l_next),
+            norm2(l_prev),
+            Vec<2, Real>::load(v, i),
+            Vec<2, Real>::load(v, next),
+            Vec<2, Real>::load(v, prev),
+            type(i),
+            Vec<2, Real>::zero()};
   }
   // The damped part of the relative velocity: all of it, or its part perpendicular to the normal u.
   KOKKOS_INLINE_FUNCTION Vec<2, Real> damped(Vec<2, Real> dv, const Vec<2, Real>& u) const {
@@ -66,6 +81,7 @@ struct SmoothVertexFrictionEvaluator : PairEvaluatorTraits {
   }
   KOKKOS_INLINE_FUNCTION void operator()(FullList, Row& s, int, int j, const Vec<2, Real>&, Real, double&) const {
     using smooth_contact_detail::contact;
+    using smooth_contact_detail::contact_along;
     const Real width = widths.contact[s.ti][type(j)];
     const Vec<2, Real> xj = Vec<2, Real>::load(x, j), vj = Vec<2, Real>::load(v, j);
     Real fm, t, e;
@@ -76,10 +92,10 @@ struct SmoothVertexFrictionEvaluator : PairEvaluatorTraits {
     if (contact(s.xi, xj, Vec<2, Real>::load(x, jn), box, width, widths.epsilon, fm, u, t, e))
       s.fi += (-mu) * damped(s.vi - ((Real(1) - t) * vj + t * Vec<2, Real>::load(v, jn)), u);
     // (b) i the first vertex of its edge i → next(i), against the point j.
-    if (contact(xj, s.xi, s.x_next, box, width, widths.epsilon, fm, u, t, e))
+    if (contact_along(xj, s.xi, s.l_next, s.l2_next, box, width, widths.epsilon, fm, u, t, e))
       s.fi += ((Real(1) - t) * mu) * damped(vj - ((Real(1) - t) * s.vi + t * s.v_next), u);
     // (c) i the second vertex of its edge prev(i) → i, against the point j (no share at a cap).
-    if (contact(xj, s.x_prev, s.xi, box, width, widths.epsilon, fm, u, t, e))
+    if (contact_along(xj, s.x_prev, s.l_prev, s.l2_prev, box, width, widths.epsilon, fm, u, t, e))
       s.fi += (t * mu) * damped(vj - ((Real(1) - t) * s.v_prev + t * s.vi), u);
   }
   KOKKOS_INLINE_FUNCTION void end(FullList, Row& s, int i, double&) const {

@@ -16,7 +16,18 @@ C++ validate(dimension). dp_scene(): DpHopperParameters' fields (particles, vert
 orifice, wall_angle, area_stiffness, perimeter_stiffness, bending_stiffness, contact_energy,
 wall_energy, drag, friction, friction_component, smooth, dt, seed, force_dt), checked by the C++
 validate(). A value out of range raises ValueError naming it.
+
+sweep(): the `hopper` driver's Q(w) sweep (width index k runs at orifice w_k with seed + k, FIRE, flow
+to a steady state, Q over the measuring windows with its block error, the axis profile), width by
+width with a resume file, and Beverloo's eq. 1 fitted as the driver does:
+
+    r = hopper.sweep([4, 5, 6, 7], particles=400, hopper_width=25, friction=3.16,
+                     flow=dict(measure_windows=20), checkpoint="q_w.jsonl")
+    r["Q"], r["Q_error"], r["beverloo"]["beta"]
 """
+import json
+import os
+
 from . import _mesoflow
 from ._params import fill
 
@@ -70,3 +81,96 @@ def dp_scene(**kw):
     p = fill("dp hopper scene", DpHopperParameters(), kw, _DP_KEYS, _friction_component)
     p.validate()
     return Hopper(p, 2, model="dp")
+
+
+FlowSettings = _core.FlowSettings
+_FLOW_KEYS = ("window", "steady_windows", "measure_windows", "clog_time", "max_time", "check_interval")
+
+
+def _flow_settings(flow):
+    f = fill("flow measurement", FlowSettings(), dict(flow or {}), _FLOW_KEYS)
+    f.validate()
+    return f
+
+
+def sweep(widths, dimension=2, model="sp", flow=None, checkpoint=None, progress=False, callback=None, **kw):
+    """Q(w) as the `hopper` driver measures it (--widths, same order and seeds), one width at a time.
+
+    kw: the scene's keywords (scene() or, with model="dp", dp_scene()); flow: FlowSettings' fields
+    (window, steady_windows, measure_windows, clog_time, max_time, check_interval).
+    checkpoint: a file (JSON lines): its first line the sweep's parameters, then one line per finished
+    width, written at once (fsync); a later call with the same file and parameters skips the widths
+    it holds (other parameters raise ValueError). callback(k, w, record) as each width finishes.
+    A width's run is not interruptible from Python (Ctrl-C acts after it).
+    Returns a dict: widths, records (per width: Q, Q_error, Q_corrected, clogged, steady, ..., the
+    window rates and the axis profile), Q, Q_error, and beverloo (eq. 1 over the flowing, steady
+    widths with a rate and an error, as the driver; None below 4 such widths).
+    """
+    if model not in ("sp", "dp"):
+        raise ValueError("model must be sp or dp, got %r" % (model,))
+    if model == "dp":
+        if dimension != 2:
+            raise ValueError("dimension: the dp model is 2D only, got %r" % (dimension,))
+        params = fill("dp hopper scene", DpHopperParameters(), kw, _DP_KEYS, _friction_component)
+    else:
+        if dimension not in (2, 3):
+            raise ValueError("dimension must be 2 or 3, got %r" % (dimension,))
+        params = fill("hopper scene", HopperParameters(), kw, _KEYS, _friction_component)
+    widths = [float(w) for w in widths]
+    if not widths:
+        raise ValueError("widths must not be empty")
+    for w in widths:
+        if not (0 < w < params.hopper_width):
+            raise ValueError("widths: each in (0, W = %g), got %g" % (params.hopper_width, w))
+    settings = _flow_settings(flow)
+    signature = {"model": model, "dimension": dimension, "widths": widths,
+                 "scene": {k: str(v) for k, v in sorted(kw.items())},
+                 "flow": {k: getattr(settings, k) for k in _FLOW_KEYS}}
+    done = {}
+    if checkpoint is not None and os.path.exists(checkpoint):
+        with open(checkpoint) as f:
+            lines = f.read().split("\n")
+        header = json.loads(lines[0])
+        if header != signature:
+            changed = sorted(k for k in set(header) | set(signature) if header.get(k) != signature.get(k))
+            raise ValueError("checkpoint %s holds another sweep (differs in %s)" % (checkpoint, ", ".join(changed)))
+        for line in lines[1:]:
+            try:
+                r = json.loads(line)
+            except ValueError:  # an empty or torn last line (killed while writing)
+                continue
+            done[r["index"]] = r
+    elif checkpoint is not None:
+        with open(checkpoint, "w") as f:
+            f.write(json.dumps(signature) + "\n")
+            f.flush()
+            os.fsync(f.fileno())
+    todo = [k for k in range(len(widths)) if k not in done]
+    from .droplets import _progress_bar
+    bar = _progress_bar(len(todo), "widths", progress and bool(todo))
+    out = open(checkpoint, "a") if checkpoint is not None else None
+    try:
+        for k in todo:
+            record = dict(_core.measure_width(params, dimension, widths[k], k, settings), index=k, w=widths[k])
+            done[k] = record
+            if out is not None:
+                out.write(json.dumps(record) + "\n")
+                out.flush()
+                os.fsync(out.fileno())
+            if bar is not None:
+                bar.update(1)
+            if callback is not None:
+                callback(k, widths[k], record)
+    finally:
+        if out is not None:
+            out.close()
+        if bar is not None:
+            bar.close()
+    records = [done[k] for k in range(len(widths))]
+    fit_rows = [(r["w"], r["Q"], r["Q_error"]) for r in records
+                if not r["clogged"] and r["steady"] and r["Q"] > 0 and r["Q_error"] > 0]
+    beverloo = None
+    if len(fit_rows) >= 4:
+        beverloo = _mesoflow.analysis.fit_beverloo(*(list(c) for c in zip(*fit_rows)))
+    return {"widths": widths, "records": records, "Q": [r["Q"] for r in records],
+            "Q_error": [r["Q_error"] for r in records], "beverloo": beverloo}

@@ -75,6 +75,46 @@ void bind_capsule(py::module_& top) {
                              "G_s of the paper's formula from the bond constant and thickness")
       .def_property_readonly("num_membrane", [](PyCapsule& c) { return c.get().num_membrane(); })
       .def_property_readonly("num_fluid", [](PyCapsule& c) { return c.get().num_fluid(); })
+      .def_property_readonly("num_outer_fluid", [](PyCapsule& c) { return c.get().num_outer_fluid(); })
+      .def_property_readonly("num_walls", [](PyCapsule& c) { return c.get().num_walls(); })
+      .def_property_readonly(
+          "box",
+          [](PyCapsule& c) {
+            const auto& b = c.get().system().box();
+            return py::make_tuple(py::make_tuple(b.lo[0], b.lo[1], b.lo[2]),
+                                  py::make_tuple(b.length[0], b.length[1], b.length[2]),
+                                  py::make_tuple(b.periodic[0], b.periodic[1], b.periodic[2]));
+          },
+          "(lo, length, periodic) of the SPH box; walled axes extend over the wall layers")
+      .def_property_readonly(
+          "particle_slot",
+          [](py::object self) { return numpy_view(self.cast<PyCapsule&>().get().particle_slot(), self); },
+          "particle_slot[i]: where particle i of the initial order (outer fluid, inner fluid, walls, "
+          "membrane) is stored now, through memory sorts; positions[particle_slot] is that order")
+      .def_property_readonly(
+          "membrane_bonds",
+          [](PyCapsule& c) {
+            const auto& mesh = c.get().mesh();
+            const int offset = c.get().membrane_offset();
+            py::array_t<int> a(std::vector<py::ssize_t>{py::ssize_t(mesh.num_bonds()), 2});
+            auto r = a.mutable_unchecked<2>();
+            for (int b = 0; b < mesh.num_bonds(); ++b)
+              for (int e = 0; e < 2; ++e) r(b, e) = offset + mesh.bond[std::size_t(b)][std::size_t(e)];
+            return a;
+          },
+          "the membrane's springs (n_b, 2) as particle indices of the initial order (a copy)")
+      .def_property_readonly(
+          "membrane_triangles",
+          [](PyCapsule& c) {
+            const auto& mesh = c.get().mesh();
+            const int offset = c.get().membrane_offset();
+            py::array_t<int> a(std::vector<py::ssize_t>{py::ssize_t(mesh.triangle.size()), 3});
+            auto r = a.mutable_unchecked<2>();
+            for (std::size_t t = 0; t < mesh.triangle.size(); ++t)
+              for (std::size_t e = 0; e < 3; ++e) r(py::ssize_t(t), py::ssize_t(e)) = offset + mesh.triangle[t][e];
+            return a;
+          },
+          "the outer layer's triangles (n_t, 3) as particle indices of the initial order (a copy)")
       .def(
           "outer_layer",
           [](PyCapsule& c) {

@@ -55,6 +55,8 @@ void bind_crystal(py::module_& top) {
           "advance",
           [](PyChannel& c, long long steps) { advance_steps(c.get(), steps, 200); },
           py::arg("steps"))
+      .def_property_readonly("parameters", [](PyChannel& c) { return c.get().parameters(); },
+                             "the scene's ChannelFlowParameters (a copy)")
       .def_property_readonly("time", [](PyChannel& c) { return c.get().time(); })
       .def_property_readonly("steps", [](PyChannel& c) { return (long long)c.get().steps_done(); })
       .def_property_readonly("components", [](PyChannel& c) { return c.get().components(); })

@@ -1,11 +1,17 @@
 // hopper.cpp — bindings of the hopper scenes (hopper-flows §2): the soft-particle scene in 2D and 3D
 // (scenes/hopper/hopper_scene.hpp) and the deformable-polygon scene in 2D (dp_hopper_scene.hpp),
 // stepped from Python, with their particles or vertices as arrays and their crossing counts.
-// The drivers' sweep machinery (widths, measurement windows, recycling statistics) stays in the
-// `hopper` driver; this is the scene for scripts that want their own loop.
+// One width of the driver's Q(w) sweep (measure_width: the same scene parameters, FIRE, windows,
+// steady-state test, block errors and profiles as `hopper --widths`) is bound too, so that
+// mesoflow.hopper.sweep() loops over widths with a resume file; the loop over ranks and the output
+// files stay in the driver.
+#include "analysis/common/block_average.hpp"
+#include "analysis/hopper/flow_rate_fits.hpp"
 #include "python/src/lifetime.hpp"
 #include "scenes/hopper/dp_hopper_scene.hpp"
 #include "scenes/hopper/hopper_scene.hpp"
+#include "scenes/hopper/hopper_runs.hpp"
+#include "scenes/hopper/hopper_sweep.hpp"
 
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
@@ -95,6 +101,43 @@ void bind_dp_scene(py::module_& m) {
           "per polygon: area, perimeter, centre of mass and its velocity at the current state");
 }
 
+// A width's run (hopper::WidthRun) as a dict: the scalars of the driver's CSV and JSON, the window
+// rates and the window-averaged axis profile (h, n, v_g mean as in <out>_profile.csv).
+py::dict width_run_dict(const hopper::WidthRun& run) {
+  const auto& v = run.scalars;
+  py::dict d;
+  d["Q"] = v.Q, d["Q_error"] = v.Q_error, d["Q_corrected"] = v.Q_corrected;
+  d["number_density_orifice"] = v.rho_n, d["clogged"] = v.clogged, d["steady"] = v.steady;
+  d["steady_time"] = v.steady_time, d["end_time"] = v.result_end_time, d["steps"] = v.steps, d["time"] = v.time;
+  d["insertions"] = v.insertions, d["max_insertion_overlap"] = v.max_insertion_overlap;
+  d["seconds"] = v.seconds;
+  std::vector<double> wt, wq, h, n, vg;
+  for (const auto& w : run.windows) wt.push_back(w.time), wq.push_back(w.q);
+  d["window_time"] = wt, d["window_rate"] = wq;
+  const auto& m = run.measured;
+  if (m.samples > 0)
+    for (int j = 0; j < hopper::profile_points; ++j) {
+      h.push_back(j * hopper::profile_dh), n.push_back(m.n[std::size_t(j)]);
+      vg.push_back(m.n[std::size_t(j)] > 1e-6 ? m.vg_sum[std::size_t(j)] / m.n[std::size_t(j)] : 0.0);
+    }
+  d["profile_h"] = h, d["profile_n"] = n, d["profile_vg"] = vg;
+  return d;
+}
+
+// run_width's report of a finished width: nothing here (the Python loop reports).
+constexpr auto no_report = [](const auto&, const hopper::FlowResult&) {};
+
+template <int D>
+hopper::WidthRun measure_sp(const hopper::HopperParameters& p, double w, std::size_t k, const hopper::FlowSettings& flow) {
+  const hopper::HopperParameters base = hopper::particle_parameters(p, p.dt, D);
+  hopper::validate(hopper::at_width(base, w, k), D);
+  flow.validate();
+  hopper::WidthRun run = hopper::run_width<hopper::HopperScene<D>>(base, w, k, flow, analysis::block_average, no_report);
+  std::vector<hopper::WidthRun> one{run};
+  hopper::correct_flow_rates(one, hopper::HopperScene<D>::mean_particle_measure(), hopper::corrected_flow_rate);
+  return one.front();
+}
+
 }  // namespace
 
 void bind_hopper(py::module_& top) {
@@ -143,6 +186,36 @@ void bind_hopper(py::module_& top) {
       .def("validate", &hopper::DpHopperParameters::validate)
       .def("resolved_dt", &hopper::DpHopperParameters::resolved_dt);
   bind_dp_scene(m);
+
+  using F = hopper::FlowSettings;
+  py::class_<F>(m, "FlowSettings", "the Q measurement of one width (the driver's --window ... --max-time)")
+      .def(py::init<>())
+      .def_readwrite("window", &F::window)
+      .def_readwrite("steady_windows", &F::steady_windows)
+      .def_readwrite("measure_windows", &F::measure_windows)
+      .def_readwrite("clog_time", &F::clog_time)
+      .def_readwrite("max_time", &F::max_time)
+      .def_readwrite("check_interval", &F::check_interval)
+      .def("validate", &F::validate);
+  m.def(
+      "measure_width",
+      [](const hopper::HopperParameters& p, int dimension, double w, std::size_t k, const F& flow) {
+        if (dimension != 2 && dimension != 3)
+          throw std::invalid_argument("dimension must be 2 or 3, got " + std::to_string(dimension));
+        return width_run_dict(dimension == 2 ? measure_sp<2>(p, w, k, flow) : measure_sp<3>(p, w, k, flow));
+      },
+      py::arg("parameters"), py::arg("dimension"), py::arg("width"), py::arg("index"), py::arg("flow"),
+      "width index `index` of the driver's sweep (orifice w, seed + index; dt 0: min(1e-3, 0.9 × limit)): "
+      "FIRE, flow to a steady state, Q over the measuring windows with its block error");
+  m.def(
+      "measure_width",
+      [](const hopper::DpHopperParameters& p, int dimension, double w, std::size_t k, const F& flow) {
+        if (dimension != 2) throw std::invalid_argument("dimension: the dp model is 2D only, got " + std::to_string(dimension));
+        hopper::validate(hopper::at_width(p, w, k), 2);  // the driver's polygon_parameters are p itself
+        flow.validate();
+        return width_run_dict(hopper::run_width<hopper::DpHopperScene<>>(p, w, k, flow, analysis::block_average, no_report));
+      },
+      py::arg("parameters"), py::arg("dimension"), py::arg("width"), py::arg("index"), py::arg("flow"));
 }
 
 }  // namespace mesoflow::python

@@ -59,13 +59,18 @@ void bind_flow(py::module_& m, const char* name) {
           },
           py::arg("warmup"), py::arg("steps"), py::arg("sample_every") = 10, py::arg("on_sample") = nullptr,
           py::arg("check_every") = 100, "driven steps: warmup, then steps sampled every sample_every")
+      .def_property_readonly("steps", [](S& s) { return (long long)s.get().system().current_step(); },
+                             "steps done since the fluid was filled in (equilibration included)")
+      .def_property_readonly("time", [](S& s) { return s.get().system().time(); })
       .def_property_readonly("components", [](S& s) { return s.get().components(); })
       .def_property_readonly("solid_particles", [](S& s) { return s.get().solid_particles(); })
       .def_property_readonly("porosity", [](S& s) { return s.get().settings().porosity; })
       .def_property_readonly("box", [](S& s) {
         const auto& g = s.get().settings().geometry;
-        return py::make_tuple(g.Lx, g.Ly, g.H);
-      })
+        return py::make_tuple(g.Lx, g.Ly, g.Lz);
+      }, "(Lx, Ly, Lz) of the periodic box [0, L) per axis (Lz = 0 in 2D); walls fill z in [H, Lz)")
+      .def_property_readonly("height", [](S& s) { return s.get().settings().geometry.H; },
+                             "channel height H between the walls (0: no walls)")
       .def_property_readonly("record", [](S& s) {
         const auto& r = s.get().record();
         py::dict d;

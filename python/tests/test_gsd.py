@@ -89,3 +89,98 @@ def test_deformable_polygon_hopper_frames_are_vertex_disks_with_their_polygon(tm
     delta = d.vertex_diameters
     np.testing.assert_allclose([s["diameter"] for s in frame.particles.type_shapes], delta, rtol=1e-6)
     np.testing.assert_allclose(frame.particles.position[:, :2], np.array(d.positions), atol=1e-5)
+
+
+def test_crystal_frames_hold_the_solvent_and_the_discs_in_a_centred_box(tmp_path):
+    import mesoflow
+    from mesoflow import crystal
+    from mesoflow.gsd_output import CrystalGsd
+    path = str(tmp_path / "crystal.gsd")
+    c = crystal.channel(length=20.0, width=10.0, density=5.0, disc_radius=2.0, seed=4,
+                        disc_centres=[(5.0, 5.0), (15.0, 5.0)], body_acceleration=0.05)
+    with CrystalGsd(path, c, every=2) as out:
+        mesoflow.run(c, 300, every=50, callback=out)  # 6 calls: frames at 2, 4, 6
+    f = gsd.hoomd.open(path, "rb")
+    assert len(f) == 4 and f[-1].configuration.step == 300
+    frame = f[-1]
+    n = c.positions.shape[0]
+    assert frame.particles.N == n + 2 and list(frame.particles.types) == ["solvent", "disc"]
+    np.testing.assert_array_equal(frame.particles.typeid[n:], [1, 1])
+    assert frame.particles.type_shapes[1] == {"type": "Disk", "diameter": 4.0}
+    box = frame.configuration.box
+    assert box[0] == 20.0 and box[1] == 10.0
+    # positions shifted by (−L/2, −W/2) and inside the box
+    np.testing.assert_allclose(frame.particles.position[n:, :2], np.array(c.disc_positions) - [10.0, 5.0],
+                               atol=1e-5)
+    assert np.all(np.abs(frame.particles.position[:, 0]) <= 10.0)
+    assert np.all(np.abs(frame.particles.position[:, 1]) <= 5.0)
+    np.testing.assert_allclose(np.sort(frame.particles.position[:n, 0]),
+                               np.sort(np.array(c.positions)[:, 0] % 20.0 - 10.0), atol=1e-5)
+
+
+def test_capsule_frames_keep_particle_ids_through_sorts_and_hold_the_springs(tmp_path):
+    from mesoflow import capsule
+    from mesoflow.gsd_output import CapsuleGsd
+    c = capsule.scene(sites=(16, 16, 16), radius=4.0, level=1, capsule_velocity=(0.02, 0.0, 0.0), seed=3)
+    slot0 = np.array(c.particle_slot)
+    first = np.array(c.positions)[slot0]
+    path = str(tmp_path / "capsule.gsd")
+    with CapsuleGsd(path, c) as out:
+        c.advance(120)
+    f = gsd.hoomd.open(path, "rb")
+    assert len(f) == 2
+    frame = f[-1]
+    n = c.positions.shape[0]
+    nf, nw, nm = c.num_fluid, c.num_walls, c.num_membrane
+    assert frame.particles.N == n == nf + nw + nm
+    assert list(frame.particles.types) == ["outer_fluid", "inner_fluid", "wall", "membrane"]
+    assert np.count_nonzero(frame.particles.typeid == 3) == nm
+    assert np.count_nonzero(frame.particles.typeid == 1) == nf - c.num_outer_fluid > 0
+    # ids fixed: a membrane particle moved by less than a spacing between the frames (the scene may
+    # have sorted its memory in between; then the stored order differs from the ids)
+    lo, length, _ = c.box
+    shift = np.array(lo) + np.array(length) / 2
+    now = np.array(c.positions)[np.array(c.particle_slot)]
+    disp = now[nf + nw:] - first[nf + nw:]
+    assert np.all(np.linalg.norm(disp, axis=1) < 0.5)
+    got = frame.particles.position[nf + nw:].astype(float) + shift
+    L = np.array(length)
+    np.testing.assert_allclose(np.mod(got - now[nf + nw:] + L / 2, L) - L / 2, 0.0, atol=1e-4)
+    # the springs: every bond joins two membrane particles and is a spring of the mesh
+    bonds = frame.bonds.group
+    assert frame.bonds.N == len(c.membrane_bonds) > nm and list(frame.bonds.types) == ["spring"]
+    assert bonds.min() >= nf + nw and bonds.max() < n
+    ends = np.array(c.positions)[np.array(c.particle_slot)][bonds]
+    assert np.max(np.linalg.norm(ends[:, 0] - ends[:, 1], axis=1)) < 4.0  # shorter than the radius
+    tri = np.array(c.membrane_triangles)
+    assert tri.shape == (80, 3) and tri.min() >= nf + nw  # level-1 icosphere, outer layer
+    # without the fluid: walls and membrane, bonds renumbered
+    path2 = str(tmp_path / "shell.gsd")
+    CapsuleGsd(path2, c, fluid=False).close()
+    shell = gsd.hoomd.open(path2, "rb")[0]
+    assert shell.particles.N == nw + nm and shell.bonds.group.min() >= nw
+
+
+def test_pillar_frames_hold_fluid_and_solid_with_their_types(tmp_path):
+    from mesoflow import pillars
+    from mesoflow.gsd_output import PillarsGsd
+    f = pillars.flow(layout="square", porosity=0.8, cells_x=3, cells_y=1)
+    f.equilibrate(100)
+    path = str(tmp_path / "pillars.gsd")
+    with PillarsGsd(path, f, every=5) as out:
+        f.run(warmup=0, steps=200, sample_every=10, on_sample=out)  # 20 samples: frames at 5, 10, 15, 20
+    g = gsd.hoomd.open(path, "rb")
+    assert len(g) == 5
+    frame = g[-1]
+    assert frame.configuration.step == f.steps and frame.configuration.dimensions == 2
+    np.testing.assert_array_equal(frame.particles.typeid, np.array(f.types))
+    assert list(frame.particles.types) == ["fluid", "solid_surface", "solid_core"]
+    Lx, Ly, Lz = f.box
+    assert Lz == 0.0
+    np.testing.assert_allclose(frame.configuration.box[:2], [Lx, Ly], rtol=1e-6)
+    np.testing.assert_allclose(frame.particles.position[:, 0] + Lx / 2, np.array(f.positions)[:, 0] % Lx, atol=1e-4)
+
+    # the same particles in every frame: as many of each kind (the solid ones tethered, not fixed)
+    np.testing.assert_array_equal(np.bincount(g[0].particles.typeid, minlength=3),
+                                  np.bincount(frame.particles.typeid, minlength=3))
+    assert np.count_nonzero(frame.particles.typeid) == f.solid_particles
