@@ -63,9 +63,11 @@ inline double disc_mass(const DiscStiffnessInputs& s) {
   return s.density * s.mass * pi * s.disc_radius * s.disc_radius / (s.cell_size * s.cell_size);
 }
 
-inline StabilityEstimate disc_stability(const DiscStiffnessInputs& s) {
-  StabilityEstimate e;
-  if (!s.discs) return e;
+// The closest WCA surface separation the step limit assumes: the smaller of the separations where
+// the force equals the driving force on a disc, M g, and where the energy reaches 10 k_BT. Discs
+// placed closer than this (to each other or to a wall) start stiffer than the limit allows; the
+// channel flow refuses such a start (check_disc_centres).
+inline double disc_closest_approach(const DiscStiffnessInputs& s) {
   const double eps = s.wca_epsilon, r0 = s.wca_r0, M = disc_mass(s);
   const auto energy = [&](double r) {
     const double s6 = std::pow(r0 / r, 6);
@@ -77,7 +79,14 @@ inline StabilityEstimate disc_stability(const DiscStiffnessInputs& s) {
   };
   const double r_force = stability_detail::separation_where(force, M * std::abs(s.body_acceleration), r0);
   const double r_thermal = stability_detail::separation_where(energy, thermal_approach_energy * s.kT, r0);
-  const double r = std::min(r_force, r_thermal);
+  return std::min(r_force, r_thermal);
+}
+
+inline StabilityEstimate disc_stability(const DiscStiffnessInputs& s) {
+  StabilityEstimate e;
+  if (!s.discs) return e;
+  const double eps = s.wca_epsilon, r0 = s.wca_r0, M = disc_mass(s);
+  const double r = disc_closest_approach(s);
   const double s6 = std::pow(r0 / r, 6);
   const double stiffness = eps > 0 ? 4 * eps * (156 * s6 * s6 - 42 * s6) / (r * r) : 0.0;
   e.add_mode("disc WCA contacts ε, r0", std::sqrt(5 * stiffness / M));

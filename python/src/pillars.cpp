@@ -1,7 +1,9 @@
 // pillars.cpp — bindings of the pillar-array flow (mdpd-pillar-array-permeability: MDPD fluid
 // driven through tethered pillars, scenes/pillars/pillar_flow.hpp and pillar_runs.hpp), in 2D or 3D.
-// The scene and its run loop (PillarFlow) are the `pillars` driver's; output files, checkpoints
-// and the permeability estimates stay there (mesoflow.analysis has the theory and the Brinkman fit).
+// The scene and its run loop (PillarFlow) are the `pillars` driver's, and so are the permeability
+// estimates of its samples (permeability(), assembled as the driver does); output files and
+// checkpoints stay in the driver (mesoflow.analysis has the theory and the Brinkman fit).
+#include "analysis/pillars/permeability_estimates.hpp"
 #include "python/src/lifetime.hpp"
 #include "scenes/pillars/pillar_runs.hpp"
 
@@ -62,6 +64,44 @@ void bind_flow(py::module_& m, const char* name) {
       .def_property_readonly("steps", [](S& s) { return (long long)s.get().system().current_step(); },
                              "steps done since the fluid was filled in (equilibration included)")
       .def_property_readonly("time", [](S& s) { return s.get().system().time(); })
+      .def(
+          "permeability",
+          [](S& s, double viscosity) {
+            const auto& f = s.get();
+            const auto& st = f.settings();
+            const auto& g = st.geometry;
+            const auto& rec = f.record();
+            if (rec.samples == 0) throw std::invalid_argument("permeability: no samples yet (call run() first)");
+            if (!(viscosity >= 0) || !std::isfinite(viscosity))
+              throw std::invalid_argument("permeability: viscosity must be finite and >= 0 (0: the paper's), got " +
+                                          std::to_string(viscosity));
+            pillars::PillarRunParameters par;
+            par.viscosity = viscosity;
+            const double mu = par.viscosity_for_kappa(D);
+            // as the `pillars` driver assembles it (drivers/pillars/pillars.cpp)
+            const pillars::FlowMeasurement m{D, g.Lx, g.Ly, g.Lz, g.H, g.diameter, st.porosity, g.centres, f.x_lo(),
+                                             f.x_hi(), mu, st.driving_force, st.density, st.driving_length, rec.count,
+                                             rec.velocity, rec.pillar_force, rec.tether, rec.driven, rec.sum_u,
+                                             rec.sum_u2, rec.sample_u, rec.sample_tether, rec.samples, rec.count_all,
+                                             rec.velocity_all, rec.tether_all};
+            const auto e = pillars::estimate_permeability(m);
+            py::dict d;
+            d["viscosity_used"] = mu, d["mean_ux"] = e.mean_u, d["mean_ux_naive_error"] = e.mean_u_naive_error;
+            d["mean_ux_block_error"] = e.mean_u_block_error, d["superficial_velocity"] = e.superficial_velocity;
+            d["pressure_difference"] = e.pressure_difference;
+            d["pressure_difference_force_balance"] = e.pressure_difference_force_balance;
+            d["kappa_darcy"] = e.kappa_darcy, d["kappa_darcy_force_balance"] = e.kappa_darcy_force_balance;
+            d["kappa_darcy_relative_error"] = e.kappa_darcy_relative_error;
+            d["kappa_drag_pair"] = e.kappa_drag_pair, d["kappa_drag_tether"] = e.kappa_drag_tether;
+            d["kappa_drag_tether_relative_error"] = e.kappa_drag_tether_relative_error;
+            d["measured_pillars"] = e.measured_pillars, d["kappa_darcy_box"] = e.kappa_darcy_box;
+            d["kappa_drag_tether_region"] = e.kappa_drag_tether_region;
+            d["superficial_velocity_box"] = e.superficial_velocity_box;
+            return d;
+          },
+          py::arg("viscosity") = 0.0,
+          "the `pillars` driver's permeability estimates from the samples so far (Darcy, eqs. 1-2; drag, eq. 3): "
+          "κ_darcy, κ_drag_tether, ... with μ = viscosity (0: the paper's 26.1 in 2D, 17.5 in 3D)")
       .def_property_readonly("components", [](S& s) { return s.get().components(); })
       .def_property_readonly("solid_particles", [](S& s) { return s.get().solid_particles(); })
       .def_property_readonly("porosity", [](S& s) { return s.get().settings().porosity; })

@@ -15,6 +15,9 @@ def test_bad_parameters_raise_value_errors():
         crystal.channel(rule="lbm")
     with pytest.raises(TypeError, match="unknown parameter lenght"):
         crystal.channel(lenght=3.0)
+    # discs 0.01 apart at their surfaces: refused (they used to blow apart and crash the process)
+    with pytest.raises(ValueError, match="closer than the .* the step limit assumes"):
+        crystal.channel(length=60.0, width=15.0, density=5.0, disc_centres=[(5.0, 7.5), (15.01, 7.5)])
 
 
 def test_a_periodic_solvent_without_forces_keeps_its_momentum():

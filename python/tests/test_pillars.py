@@ -39,3 +39,25 @@ def test_the_samples_are_the_pillars_drivers_bit_for_bit(bin_dir, tmp_path):
     types = np.array(f.types)
     assert set(np.unique(types)) == {0, 1, 2} and f.positions.shape == (len(types), 2)  # fluid, solid, core
     assert np.count_nonzero(types) == f.solid_particles
+
+
+def test_the_permeability_estimates_are_the_drivers_bit_for_bit(bin_dir, tmp_path):
+    import json
+    out = tmp_path / "k.h5"
+    subprocess.run([os.path.join(bin_dir, "pillars"), "--quiet", "--threads", "1", *FLAGS, "--output", str(out)],
+                   check=True)
+    with open(tmp_path / "k.json") as f:
+        driver = json.load(f)
+    f = pillars.flow(**SCENE)
+    with pytest.raises(ValueError, match="no samples yet"):
+        f.permeability()
+    f.equilibrate(100)
+    f.run(warmup=200, steps=1000, sample_every=10)
+    e = f.permeability()
+    for key in ("kappa_darcy", "kappa_drag_tether", "kappa_drag_pair", "kappa_darcy_box", "superficial_velocity",
+                "mean_ux_block_error", "pressure_difference", "viscosity_used"):
+        assert e[key] == driver[key], key
+    assert e["viscosity_used"] == 26.1 and e["kappa_darcy"] > 0
+    assert f.permeability(viscosity=13.05)["kappa_darcy"] == pytest.approx(e["kappa_darcy"] / 2, rel=1e-12)
+    with pytest.raises(ValueError, match="viscosity must be finite and >= 0"):
+        f.permeability(viscosity=-1.0)

@@ -133,7 +133,7 @@ ChannelFlowParameters<To> converted(const ChannelFlowParameters<From>& p) {
 }
 
 // The explicit limit of the discs' WCA contacts and the solvent's bounce-back (kernels/mpc/stability.hpp).
-inline StabilityEstimate channel_flow_stability(const ChannelFlowParameters<double>& f, bool discs) {
+inline DiscStiffnessInputs disc_stiffness_inputs(const ChannelFlowParameters<double>& f, bool discs) {
   DiscStiffnessInputs s;
   s.cell_size = f.cell_size;
   s.density = f.density;
@@ -144,7 +144,10 @@ inline StabilityEstimate channel_flow_stability(const ChannelFlowParameters<doub
   s.wca_epsilon = f.wca_epsilon;
   s.wca_r0 = f.wca_r0;
   s.discs = discs;
-  return disc_stability(s);
+  return s;
+}
+inline StabilityEstimate channel_flow_stability(const ChannelFlowParameters<double>& f, bool discs) {
+  return disc_stability(disc_stiffness_inputs(f, discs));
 }
 
 template <class Real, class ExecSpace = Kokkos::DefaultExecutionSpace>
@@ -393,13 +396,23 @@ class ChannelFlow {
     if (disc_virtual_) disc_virtual_->transfer(xv_, vv_, disc_offset, discs_);
   }
 
+  // Discs must not touch each other or a wall, and their surfaces must start at least the closest
+  // approach the step limit assumes apart (disc_closest_approach, kernels/mpc/stability.hpp): a pair
+  // placed 0.01 r0 apart otherwise meets a WCA force ~10¹³ times the driving force in its first step.
   void check_disc_centres(const std::vector<std::array<Real, 2>>& c) const {
     const double R = double(p_.disc_radius), L = double(p_.length), W = double(p_.width);
+    const double gap = c.empty() ? 0.0 : disc_closest_approach(disc_stiffness_inputs(converted<double>(p_), true));
+    const auto too_close = [&](const std::string& what, double r) {
+      throw std::invalid_argument("channel flow: " + what + " " + std::to_string(r) +
+                                  " apart at their surfaces, closer than the " + std::to_string(gap) +
+                                  " the step limit assumes (WCA force M g or energy 10 k_BT); place them further apart");
+    };
     for (std::size_t k = 0; k < c.size(); ++k) {
       const double y = double(c[k][1]);
       if (p_.walls && !(y > R && y < W - R))
         throw std::invalid_argument("channel flow: disc " + std::to_string(k) + " at y = " + std::to_string(y) +
                                     " touches a wall (needs R < y < W - R)");
+      if (p_.walls && std::min(y - R, W - R - y) < gap) too_close("disc " + std::to_string(k) + " and a wall are", std::min(y - R, W - R - y));
       for (std::size_t j = 0; j < k; ++j) {
         double dx = double(c[k][0]) - double(c[j][0]), dy = double(c[k][1]) - double(c[j][1]);
         dx -= L * std::floor(dx / L + 0.5);
@@ -407,6 +420,8 @@ class ChannelFlow {
         if (!(dx * dx + dy * dy > 4 * R * R))
           throw std::invalid_argument("channel flow: discs " + std::to_string(j) + " and " + std::to_string(k) +
                                       " touch or overlap");
+        const double r = std::sqrt(dx * dx + dy * dy) - 2 * R;
+        if (r < gap) too_close("discs " + std::to_string(j) + " and " + std::to_string(k) + " are", r);
       }
     }
   }

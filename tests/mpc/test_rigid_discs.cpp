@@ -512,6 +512,16 @@ TEST(RigidDiscsChannelTest, SceneChecksDiscPlacementAndFillsTheChannelOutsideThe
   EXPECT_THROW((ChannelFlow<double, Exec>(p, {{10.0, 3.0}})), std::invalid_argument);            // on the wall
   EXPECT_THROW((ChannelFlow<double, Exec>(p, {{10.0, 4.5}, {16.0, 4.5}})), std::invalid_argument);  // touching
   EXPECT_THROW((ChannelFlow<double, Exec>(p, {{1.0, 4.5}, {25.5, 4.5}})), std::invalid_argument);   // across x = 0
+  // surfaces 0.05 r0 apart: a WCA force ~10¹³ k_BT/r0 in the first step (the run used to blow up to
+  // |X| ~ 10¹⁷ and crash); refused below the closest approach the step limit assumes (≈ 0.89 r0 here)
+  try {
+    ChannelFlow<double, Exec> close(p, {{10.0, 4.5}, {16.05, 4.5}});
+    ADD_FAILURE() << "discs 0.05 apart were accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("discs 0 and 1 are 0.05"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("closer than the 0.88"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW((ChannelFlow<double, Exec>(p, {{10.0, 3.5}})), std::invalid_argument);  // 0.5 r0 from a wall
   ChannelFlow<double, Exec> flow(p, {{1.0, 4.5}, {15.0, 4.6}});
   const double area = 30 * 9 - 2 * M_PI * 9;
   EXPECT_EQ(flow.num_solvent(), std::size_t(std::llround(5 * area)));
