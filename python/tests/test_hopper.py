@@ -151,3 +151,20 @@ def test_the_width_sweep_refuses_bad_input():
         hopper.sweep([4], flow=dict(windows=3), **SWEEP)
     with pytest.raises(ValueError, match="dp model is 2D only"):
         hopper.sweep([4], model="dp", dimension=3)
+
+
+def test_the_polygon_width_sweep_is_the_drivers_bit_for_bit(bin_dir, tmp_path):
+    import json
+    import os
+    import subprocess
+    subprocess.run([os.path.join(bin_dir, "hopper"), "--quiet", "--no-plot", "--threads", "1", "--model", "dp",
+                    "--particles", "20", "--vertices", "10", "--hopper-width", "10", "--friction", "3.16", "--seed", "5",
+                    "--widths", "4", "--steady-windows", "2", "--measure-windows", "4", "--max-time", "20",
+                    "--output", str(tmp_path / "dp.h5")], check=True)
+    with open(tmp_path / "dp.json") as f:
+        driver = json.load(f)["results"][0]
+    r = hopper.sweep([4.0], model="dp", particles=20, vertices=10, hopper_width=10.0, friction=3.16, seed=5,
+                     flow=dict(steady_windows=2, measure_windows=4, max_time=20.0))
+    rec = r["records"][0]
+    assert rec["Q"] == driver["Q"] and rec["Q_error"] == driver["Q_error"] and rec["end_time"] == driver["end_time"]
+    assert not rec["clogged"] and rec["Q"] > 0
