@@ -4,13 +4,12 @@ Scenes take the C++ scenes' parameters as keyword arguments and are checked by t
 (`validate()`, `ObstacleSweep.check`): a value out of range raises ValueError naming the parameter
 and its range; an unknown keyword raises TypeError. Units: σ (droplet diameter), g, ρ; t0 = √(σ/g).
 """
-import json
 import math
-import os
 
 import numpy as np
 
 from . import _mesoflow
+from ._checkpoint import Checkpoint
 from ._params import check_keywords as _unknown
 
 _core = _mesoflow.droplets
@@ -186,37 +185,16 @@ def clogging_sweep(strengths, gaps, replicas, seed=1, checkpoint=None, progress=
     for s, g in points:
         sweep.check(s, g)
     signature = _sweep_signature(sweep, points, replicas, seed, clog_test)  # the schedule changes no record
-    done = {}
-    if checkpoint is not None and os.path.exists(checkpoint):
-        with open(checkpoint) as f:
-            lines = f.read().split("\n")
-        header = json.loads(lines[0])
-        if header != signature:
-            changed = sorted(k for k in set(header) | set(signature) if header.get(k) != signature.get(k))
-            raise ValueError("checkpoint %s holds another sweep (differs in %s)" % (checkpoint, ", ".join(changed)))
-        for line in lines[1:]:
-            try:
-                r = json.loads(line)
-            except ValueError:  # an empty or torn last line (killed while writing)
-                continue
-            done[(r["point"], r["replica"])] = r
-    elif checkpoint is not None:
-        with open(checkpoint, "w") as f:
-            f.write(json.dumps(signature) + "\n")
-            f.flush()
-            os.fsync(f.fileno())
+    ck = Checkpoint(checkpoint, signature)
+    done = {(r["point"], r["replica"]): r for r in ck.records}
     todo = [[j for j in range(replicas) if (p, j) not in done] for p in range(len(points))]
     pending = sum(len(t) for t in todo)
     bar = _progress_bar(pending, "replicas", progress and pending > 0)
-    out = open(checkpoint, "a") if checkpoint is not None else None
 
     def finished(p, j, s, record):
         r = dict(record, point=p, replica=j, seed=s)
         done[(p, j)] = r
-        if out is not None:
-            out.write(json.dumps(r) + "\n")
-            out.flush()
-            os.fsync(out.fileno())
+        ck.append(r)
         if bar is not None:
             bar.update(1)
         if callback is not None:
@@ -226,8 +204,7 @@ def clogging_sweep(strengths, gaps, replicas, seed=1, checkpoint=None, progress=
         if pending:
             _core.run_sweep(sweep, points, todo, seed, schedule, finished)
     finally:
-        if out is not None:
-            out.close()
+        ck.close()
         if bar is not None:
             bar.close()
     result = {"points": points, "records": [], "decay_length": [], "lower": [], "upper": [], "clogged": [],

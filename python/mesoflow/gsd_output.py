@@ -314,12 +314,8 @@ class HopperGsd(_SteppedGsd):
     diameter δ, `particles/body` their polygon. The box is centred on the origin, as the hopper is
     in x; its height covers every particle. Frames log time and crossings."""
 
-    def __init__(self, path, hopper_scene, every=1):
-        self.h = hopper_scene
-        super().__init__(path, hopper_scene, every)
-
     def _fill(self, s):
-        h = self.h
+        h = self.scene
         x = np.array(h.positions, dtype=float)  # a copy: the view changes with the next step
         types = np.array(h.types, dtype=np.uint32)
         d = h.dimension

@@ -25,10 +25,8 @@ width with a resume file, and Beverloo's eq. 1 fitted as the driver does:
                      flow=dict(measure_windows=20), checkpoint="q_w.jsonl")
     r["Q"], r["Q_error"], r["beverloo"]["beta"]
 """
-import json
-import os
-
 from . import _mesoflow
+from ._checkpoint import Checkpoint
 from ._params import fill
 
 _core = _mesoflow.hopper
@@ -126,44 +124,22 @@ def sweep(widths, dimension=2, model="sp", flow=None, checkpoint=None, progress=
     signature = {"model": model, "dimension": dimension, "widths": widths,
                  "scene": {k: str(v) for k, v in sorted(kw.items())},
                  "flow": {k: getattr(settings, k) for k in _FLOW_KEYS}}
-    done = {}
-    if checkpoint is not None and os.path.exists(checkpoint):
-        with open(checkpoint) as f:
-            lines = f.read().split("\n")
-        header = json.loads(lines[0])
-        if header != signature:
-            changed = sorted(k for k in set(header) | set(signature) if header.get(k) != signature.get(k))
-            raise ValueError("checkpoint %s holds another sweep (differs in %s)" % (checkpoint, ", ".join(changed)))
-        for line in lines[1:]:
-            try:
-                r = json.loads(line)
-            except ValueError:  # an empty or torn last line (killed while writing)
-                continue
-            done[r["index"]] = r
-    elif checkpoint is not None:
-        with open(checkpoint, "w") as f:
-            f.write(json.dumps(signature) + "\n")
-            f.flush()
-            os.fsync(f.fileno())
+    ck = Checkpoint(checkpoint, signature)
+    done = {r["index"]: r for r in ck.records}
     todo = [k for k in range(len(widths)) if k not in done]
     from .droplets import _progress_bar
     bar = _progress_bar(len(todo), "widths", progress and bool(todo))
-    out = open(checkpoint, "a") if checkpoint is not None else None
     try:
         for k in todo:
             record = dict(_core.measure_width(params, dimension, widths[k], k, settings), index=k, w=widths[k])
             done[k] = record
-            if out is not None:
-                out.write(json.dumps(record) + "\n")
-                out.flush()
-                os.fsync(out.fileno())
+            ck.append(record)
             if bar is not None:
                 bar.update(1)
             if callback is not None:
                 callback(k, widths[k], record)
     finally:
-        if out is not None:
-            out.close()
+        ck.close()
         if bar is not None:
             bar.close()
     records = [done[k] for k in range(len(widths))]
