@@ -280,6 +280,7 @@ int main(int argc, char** argv) {
               "steps between NaN-watchdog checks (a non-finite state stops the run, naming particle, term and step)",
               1, 1000000);
   return app.run(argc, argv, [&] {
+    par.validate();  // the options' ranges again, as the Python module checks them (one rule)
     mesoflow::KokkosScope kokkos(par.threads);
     if (par.mode == "moduli")
       mesoflow::moduli_summary(par, app);

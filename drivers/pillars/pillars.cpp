@@ -102,7 +102,8 @@ void run_flow(const Parameters& par, const cli::DriverApp& app) {
   pillars::FlowMeasurement m{D, g.Lx, g.Ly, g.Lz, g.H, g.diameter, s.porosity, g.centres, flow.x_lo(), flow.x_hi(),
                              mu, s.driving_force, par.density, par.driving_length, rec.count, rec.velocity,
                              rec.pillar_force, rec.tether, rec.driven, rec.sum_u, rec.sum_u2, rec.sample_u,
-                             rec.sample_tether, rec.samples, rec.count_all, rec.velocity_all, rec.tether_all};
+                             rec.sample_tether, rec.samples, rec.count_all, rec.velocity_all, rec.tether_all,
+                             rec.sample_u_box};
   const auto e = pillars::estimate_permeability(m);
   pillars::write_flow_profile(stem + "_profile.csv", e, rec.count);
   recording.write_xdmf(out.xdmf);
@@ -125,6 +126,7 @@ void run_flow(const Parameters& par, const cli::DriverApp& app) {
               {"region", {flow.x_lo(), flow.x_hi()}}, {"region_fluid_fraction", e.region_fluid_fraction},
               {"superficial_velocity_region", e.superficial_velocity_region},
               {"superficial_velocity_box", e.superficial_velocity_box}, {"kappa_darcy_box", e.kappa_darcy_box},
+              {"kappa_darcy_box_relative_error", e.kappa_darcy_box_relative_error},
               {"kappa_drag_tether_region", e.kappa_drag_tether_region},
               {"tether_force_all_pillars", -rec.tether_all / samples},
               {"driving_force_total", s.driving_force * rec.driven / samples},

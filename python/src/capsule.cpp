@@ -1,14 +1,19 @@
 // capsule.cpp — bindings of the SPH + mass-spring capsule (sph-microcapsules-constriction,
 // scenes/capsule/capsule_scene.hpp) in a periodic box: a two-layer icosphere membrane with inner and
-// outer fluids, stepped from Python. The constriction channel and the Ca/η sweeps stay in the
-// `capsule` driver; this is the scene for scripts that want their own loop.
+// outer fluids, stepped from Python; and the `capsule` driver's two runs, one (Ca, η) or one Ca at a
+// time (scenes/capsule/capsule_runs.hpp: the constriction with its flow control, simple shear), the
+// samples measured as the driver measures them and handed back as arrays.
+#include "analysis/capsule/capsule_shape.hpp"
+#include "analysis/capsule/sweep_results.hpp"
 #include "python/src/lifetime.hpp"
+#include "scenes/capsule/capsule_runs.hpp"
 #include "scenes/capsule/capsule_scene.hpp"
 
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <chrono>
 #include <memory>
 
 namespace py = pybind11;
@@ -20,6 +25,118 @@ using Params = capsule::CapsuleSceneParameters;
 using Scene = capsule::CapsuleScene<double>;
 
 using PyCapsule = Owned<Scene>;
+using RunParams = capsule::CapsuleRunParameters;
+
+// A callback that returns False stops a run after the sample it was shown.
+struct StopRun {};
+
+py::array_t<double> array(const std::vector<double>& v) { return py::array_t<double>(py::ssize_t(v.size()), v.data()); }
+
+py::dict physical_dict(const capsule::Physical& p) {
+  py::dict d;
+  d["diameter"] = p.d, d["radius"] = p.a, d["viscosity"] = p.mu, d["surface_shear_modulus"] = p.G_s;
+  d["k_b"] = p.k_b, d["c0"] = p.c0, d["shear_rate"] = p.shear_rate;
+  d["surface_shear_modulus_network"] = p.G_s_network, d["area_modulus_network"] = p.K_A_network;
+  d["surface_shear_modulus_paper_formula"] = p.G_s_paper, d["ca_network"] = p.ca_network;
+  d["ca_paper_formula"] = p.ca_paper;
+  return d;
+}
+
+// One shear run at Ca (the driver's shear mode): per sample γ̇t, D_xy, θ/π, max |ρ − ρ0|/ρ0, dt·γ̇;
+// the steady values over the last 30% of t_max, as the driver's result row.
+py::dict run_shear(const RunParams& par, double ca, py::object callback) {
+  par.validate();
+  if (!(ca > 0 && ca <= 100)) throw std::invalid_argument("capsule shear: ca must be in (0, 100], got " + std::to_string(ca));
+  RunParams p = par;
+  p.mode = "shear";
+  capsule::ShearRun<> run(p, ca, true);
+  struct Output {
+    py::object callback;
+    std::vector<double> t, D, theta, dens, dt_gamma;
+    bool stopped = false;
+    void progress(long) {}
+    void sample(double time, const std::vector<Eigen::Vector3d>& y, double de, double dtg) {
+      const auto s = capsule::shear_plane_shape(y);
+      t.push_back(time), D.push_back(s.taylor), theta.push_back(s.inclination / capsule::pi);
+      dens.push_back(de), dt_gamma.push_back(dtg);
+      if (!callback.is_none() && callback(time, s.taylor, s.inclination / capsule::pi).equal(py::bool_(false))) {
+        stopped = true;
+        throw StopRun{};
+      }
+    }
+  } out{callback, {}, {}, {}, {}, {}};
+  const auto t0 = std::chrono::steady_clock::now();
+  try {
+    run.run(out);
+  } catch (const StopRun&) {
+  }
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const double from = 0.7 * p.t_max;  // as the driver: the last 30% of the run
+  const auto D = capsule::steady_value(out.t, out.D, from), T = capsule::steady_value(out.t, out.theta, from);
+  py::dict r;
+  r["ca"] = ca, r["stopped"] = out.stopped;
+  r["shear_time"] = array(out.t), r["taylor_deformation"] = array(out.D), r["inclination_over_pi"] = array(out.theta);
+  r["max_density_deviation_series"] = array(out.dens), r["dt_gamma_series"] = array(out.dt_gamma);
+  r["D_xy"] = D.mean, r["D_xy_std"] = D.std, r["theta_over_pi"] = T.mean, r["theta_over_pi_std"] = T.std;
+  r["dt_gamma"] = run.start_dt() * run.physical().shear_rate, r["particles"] = run.scene().num_particles();
+  r["max_density_deviation"] = run.max_density_deviation(), r["wall_seconds"] = wall;
+  r["signature"] = capsule::shear_signature(p, ca), r["physical"] = physical_dict(run.physical());
+  return r;
+}
+
+// One constriction run at (Ca, η) (the driver's constriction mode): per sample the time (d/U),
+// x_c/d, D_∞,x,y,z, C_f, C_r, the body force and flux ratio; the status, passage time and the values at
+// x_c = 4d of the driver's result row.
+py::dict run_constriction(const RunParams& par, double ca, double eta, py::object callback) {
+  par.validate();
+  if (!(ca > 0 && ca <= 100)) throw std::invalid_argument("capsule constriction: ca must be in (0, 100], got " + std::to_string(ca));
+  if (!(eta > 0 && eta <= 2)) throw std::invalid_argument("capsule constriction: eta must be in (0, 2], got " + std::to_string(eta));
+  RunParams p = par;
+  p.mode = "constriction";
+  capsule::ConstrictionRun<> run(p, ca, eta, true);
+  struct Output {
+    const capsule::ConstrictionRun<>& run;
+    py::object callback;
+    std::vector<double> t, xc, dx, dy, dz, cf, cr, body, flux, dens;
+    bool stopped = false;
+    void progress(long) {}
+    void sample(const capsule::ConstrictionSample& s) {
+      const double d = run.physical().d, a = run.physical().a;
+      const auto m = capsule::sample_shape(s.y, run.scene().mesh().triangle, s.x_c, d, a);
+      t.push_back(s.time), xc.push_back(s.x_c / d), dx.push_back(m.D[0]), dy.push_back(m.D[1]), dz.push_back(m.D[2]);
+      cf.push_back(m.cf), cr.push_back(m.cr), body.push_back(s.body_force), flux.push_back(s.flux_ratio);
+      dens.push_back(s.density_deviation);
+      if (!callback.is_none() && callback(s.time, s.x_c / d).equal(py::bool_(false))) {
+        stopped = true;
+        throw StopRun{};
+      }
+    }
+  } out{run, callback, {}, {}, {}, {}, {}, {}, {}, {}, {}, {}};
+  const auto t0 = std::chrono::steady_clock::now();
+  capsule::RunResult r;
+  try {
+    r.status = run.run(out);
+  } catch (const StopRun&) {
+    r.status = "stopped";
+  }
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  capsule::set_passage(r, run.entry_time(), run.exit_time());
+  capsule::set_values_at(r, out.xc, out.dx, out.dy, out.dz, out.cf, out.cr);
+  py::dict d;
+  d["ca"] = ca, d["eta"] = eta, d["eta_effective"] = run.channel().constriction_width / p.resolution;
+  d["status"] = r.status, d["passage_time"] = r.passage_time, d["inverse_passage_time"] = r.inverse_passage_time;
+  d["entry_time"] = run.entry_time(), d["exit_time"] = run.exit_time();
+  d["Dx_at_4"] = r.Dx4, d["Dy_at_4"] = r.Dy4, d["Dz_at_4"] = r.Dz4;
+  d["Cf_at_3.5_4_4.5"] = py::make_tuple(r.Cf[0], r.Cf[1], r.Cf[2]);
+  d["Cr_at_3.5_4_4.5"] = py::make_tuple(r.Cr[0], r.Cr[1], r.Cr[2]);
+  d["time"] = array(out.t), d["x_c"] = array(out.xc), d["Dx"] = array(out.dx), d["Dy"] = array(out.dy);
+  d["Dz"] = array(out.dz), d["Cf"] = array(out.cf), d["Cr"] = array(out.cr), d["body_force"] = array(out.body);
+  d["flux_ratio"] = array(out.flux), d["density_deviation"] = array(out.dens);
+  d["dt"] = run.start_dt() / p.resolution, d["steps"] = run.steps(), d["particles"] = run.scene().num_particles();
+  d["max_density_deviation"] = run.max_density_deviation(), d["wall_seconds"] = wall;
+  d["signature"] = capsule::scene_signature(p, ca, eta), d["physical"] = physical_dict(run.physical());
+  return d;
+}
 
 }  // namespace
 
@@ -55,6 +172,41 @@ void bind_capsule(py::module_& top) {
           "time step (0: the smallest stability limit)")
       .def_readwrite("force_dt", &Params::force_dt)
       .def("validate", &Params::validate);
+  py::class_<RunParams>(m, "CapsuleRunParameters", "the `capsule` driver's run parameters (its options, snake_case)")
+      .def(py::init<>())
+      .def_readwrite("resolution", &RunParams::resolution)
+      .def_readwrite("reynolds", &RunParams::reynolds)
+      .def_readwrite("thickness", &RunParams::thickness)
+      .def_readwrite("level", &RunParams::level)
+      .def_readwrite("diagonals", &RunParams::diagonals)
+      .def_readwrite("shear_modulus", &RunParams::shear_modulus)
+      .def_readwrite("support", &RunParams::support)
+      .def_readwrite("walls", &RunParams::walls)
+      .def_readwrite("viscosity_ratio", &RunParams::viscosity_ratio)
+      .def_readwrite("c0", &RunParams::c0)
+      .def_readwrite("membrane_strain", &RunParams::membrane_strain)
+      .def_readwrite("density_variation", &RunParams::density_variation)
+      .def_readwrite("t_max", &RunParams::t_max)
+      .def_readwrite("sample_every", &RunParams::sample_every)
+      .def_readwrite("frame_every", &RunParams::frame_every)
+      .def_readwrite("stall_window", &RunParams::stall_window)
+      .def_readwrite("shear_box_x", &RunParams::shear_box_x)
+      .def_readwrite("shear_box_y", &RunParams::shear_box_y)
+      .def_readwrite("shear_box_z", &RunParams::shear_box_z)
+      .def_readwrite("dt", &RunParams::dt)
+      .def_readwrite("force_dt", &RunParams::force_dt)
+      .def_readwrite("check_every", &RunParams::check_every)
+      .def_readwrite("deterministic", &RunParams::deterministic)
+      .def("validate", &RunParams::validate);
+  m.def("run_shear", &run_shear, py::arg("parameters"), py::arg("ca"), py::arg("callback") = py::none(),
+        "one simple-shear run at Ca, as `capsule --mode shear` (callback(shear_time, D_xy, theta_over_pi) per "
+        "sample; returning False stops the run)");
+  m.def("pearson_r", &capsule::pearson_r, py::arg("x"), py::arg("y"),
+        "Pearson's r of eq. (17) over the finite pairs (NaN with fewer than two or no spread)");
+  m.def("run_constriction", &run_constriction, py::arg("parameters"), py::arg("ca"), py::arg("eta"),
+        py::arg("callback") = py::none(),
+        "one constriction run at (Ca, eta), as `capsule --mode constriction` (callback(time, x_c) per sample; "
+        "returning False stops the run)");
   py::class_<PyCapsule>(m, "CapsuleScene", "The capsule in its fluid, at rest (or with its initial velocity)")
       .def(py::init([](const Params& p) {
              p.validate();

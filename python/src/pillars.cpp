@@ -83,7 +83,7 @@ void bind_flow(py::module_& m, const char* name) {
                                              f.x_hi(), mu, st.driving_force, st.density, st.driving_length, rec.count,
                                              rec.velocity, rec.pillar_force, rec.tether, rec.driven, rec.sum_u,
                                              rec.sum_u2, rec.sample_u, rec.sample_tether, rec.samples, rec.count_all,
-                                             rec.velocity_all, rec.tether_all};
+                                             rec.velocity_all, rec.tether_all, rec.sample_u_box};
             const auto e = pillars::estimate_permeability(m);
             py::dict d;
             d["viscosity_used"] = mu, d["mean_ux"] = e.mean_u, d["mean_ux_naive_error"] = e.mean_u_naive_error;
@@ -95,6 +95,7 @@ void bind_flow(py::module_& m, const char* name) {
             d["kappa_drag_pair"] = e.kappa_drag_pair, d["kappa_drag_tether"] = e.kappa_drag_tether;
             d["kappa_drag_tether_relative_error"] = e.kappa_drag_tether_relative_error;
             d["measured_pillars"] = e.measured_pillars, d["kappa_darcy_box"] = e.kappa_darcy_box;
+            d["kappa_darcy_box_relative_error"] = e.kappa_darcy_box_relative_error;
             d["kappa_drag_tether_region"] = e.kappa_drag_tether_region;
             d["superficial_velocity_box"] = e.superficial_velocity_box;
             return d;

@@ -36,6 +36,7 @@
 #include <algorithm>
 #include <cmath>
 #include <iomanip>
+#include <initializer_list>
 #include <iostream>
 #include <memory>
 #include <sstream>
@@ -76,6 +77,49 @@ struct CapsuleRunParameters {
   // (duplicated per thread on the host, float atomics on GPUs): the same bits on every backend and
   // thread count, for twice the pair evaluations.
   bool deterministic = false;
+
+  // The ranges of the `capsule` driver's options, for callers that fill the struct themselves (the
+  // Python module): std::invalid_argument naming the parameter, its range and the value.
+  void validate() const {
+    auto in = [](const char* name, double v, double lo, double hi, bool lo_open = false) {
+      const bool ok = std::isfinite(v) && (lo_open ? v > lo : v >= lo) && v <= hi;
+      if (!ok) {
+        std::ostringstream s;
+        s << "capsule run: " << name << " must be in " << (lo_open ? "(" : "[") << lo << ", " << hi << "], got " << v;
+        throw std::invalid_argument(s.str());
+      }
+    };
+    auto one_of = [](const char* name, const std::string& v, std::initializer_list<const char*> choices) {
+      for (const char* c : choices)
+        if (v == c) return;
+      std::string list;
+      for (const char* c : choices) list += std::string(list.empty() ? "" : ", ") + c;
+      throw std::invalid_argument(std::string("capsule run: ") + name + " must be one of " + list + ", got '" + v +
+                                  "'");
+    };
+    one_of("mode", mode, {"constriction", "shear", "moduli"});
+    in("resolution", resolution, 6, 128);
+    in("reynolds", reynolds, 1e-3, 100);
+    in("thickness", thickness, 0.25, 4);
+    in("level", level, 1, 5);
+    one_of("diagonals", diagonals, {"one", "both"});
+    one_of("shear_modulus", shear_modulus, {"network", "paper"});
+    in("support", support, 1.5, 4);
+    one_of("walls", walls, {"morris", "prescribed"});
+    in("viscosity_ratio", viscosity_ratio, 0.01, 100);
+    in("c0", c0, 0, 1e4);
+    in("membrane_strain", membrane_strain, 0, 1, true);
+    in("density_variation", density_variation, 1e-4, 0.1);
+    in("t_max", t_max, 0, 1e4, true);
+    in("sample_every", sample_every, 0, 10, true);
+    in("frame_every", frame_every, 0, 100, true);
+    in("stall_window", stall_window, 0, 1e3, true);
+    in("shear_box_x", shear_box_x, 2, 20);
+    in("shear_box_y", shear_box_y, 1.5, 20);
+    in("shear_box_z", shear_box_z, 1.5, 20);
+    in("dt", dt, 0, 1);
+    in("check_every", double(check_every), 1, 1e6);
+  }
 };
 
 // The scene of a run at (Ca, η) as a string, kept in its result file: a sweep's --restart reuses

@@ -110,7 +110,7 @@ struct FlowRecord {
   std::vector<double> count, velocity, pillar_force;  // per elevation bin
   double wall_bottom = 0, wall_top = 0, tether = 0, sum_u = 0, sum_u2 = 0, driven = 0;
   double count_all = 0, velocity_all = 0, tether_all = 0;  // whole box (fluid count, Σu_x; all pillars' tethers)
-  std::vector<double> sample_u, sample_tether;  // per sample, for block-averaged errors
+  std::vector<double> sample_u, sample_tether, sample_u_box;  // per sample, for block-averaged errors
   long long samples = 0;
 
   explicit FlowRecord(int bins = 0) : count(bins, 0), velocity(bins, 0), pillar_force(bins, 0) {}
@@ -135,6 +135,7 @@ struct FlowRecord {
     const double mean_u = c > 0 ? u / c : 0.0;
     sample_u.push_back(mean_u);
     sample_tether.push_back(-fs.pillar_tether);
+    sample_u_box.push_back(fs.velocity_all);
     sum_u += mean_u;
     sum_u2 += mean_u * mean_u;
     ++samples;
@@ -148,6 +149,7 @@ struct FlowRecord {
     a("samples/pillar_force", pillar_force);
     a("samples/per_sample_u", sample_u);
     a("samples/per_sample_tether", sample_tether);
+    a("samples/per_sample_u_box", sample_u_box);
     std::vector<double> sums{wall_bottom, wall_top, tether, sum_u, sum_u2, driven, count_all, velocity_all, tether_all};
     a("samples/sums", sums);
     if (Archive::loading) {

@@ -78,6 +78,29 @@ TEST(PermeabilityEstimates, RegionFluxAndLocalDragRecoverTheRegionsPermeability)
   EXPECT_NEAR(e.kappa_drag_tether, pi * m.viscosity * (0.7 * q / 0.6) * 4 / (4 * phi * per_pillar), 1e-12);
 }
 
+// The chosen estimator's error (docs/mdpd.md): the block error of the whole box's flux over its mean.
+// 20 samples in 10 blocks of 2 whose means are 1 + 0.01k (k = 0…9), each block split ±0.5 so that
+// the within-block scatter must not count: mean 1.045, SE of the 10 block means
+// sqrt(0.01² (10² − 1)/12 / 9) = 3.0277e-3.
+TEST(PermeabilityEstimates, BoxFluxErrorIsTheBlockErrorOfThePerSampleFlux) {
+  FlowMeasurement m;
+  m.Lx = m.Ly = 10;
+  m.viscosity = 26.1, m.driving_force = 0.3, m.density = 6, m.driving_length = 5;
+  m.samples = 20;
+  m.count = {100}, m.velocity = {1}, m.pillar_force = {0};
+  m.sample_u.assign(20, 0.01);
+  m.sample_tether.assign(20, 1.0);
+  for (int k = 0; k < 10; ++k) {
+    m.sample_u_box.push_back(1 + 0.01 * k + 0.5);
+    m.sample_u_box.push_back(1 + 0.01 * k - 0.5);
+  }
+  m.count_all = 1000, m.velocity_all = 20 * 1.045;
+  const auto e = estimate_permeability(m);
+  EXPECT_NEAR(e.kappa_darcy_box_relative_error, std::sqrt(1e-4 * 99.0 / 12.0 / 9.0) / 1.045, 1e-12);
+  m.sample_u_box.clear();  // a measurement without per-sample flux: no error, not a made-up one
+  EXPECT_EQ(estimate_permeability(m).kappa_darcy_box_relative_error, 0.0);
+}
+
 TEST(SquareArrayTheory, SanganiAcrivosTableIsTheirDragConverted) {
   ASSERT_EQ(exact.size(), 9u);
   // φ = 0.6, F/(μU) = 1763: κ/d² = π/(4 · 0.6 · 1763) = 7.4247e-4. Independent check: an integral-
