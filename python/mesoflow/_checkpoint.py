@@ -44,3 +44,29 @@ class Checkpoint:
         if self._out is not None:
             self._out.close()
             self._out = None
+
+
+def run_indexed(count, run_one, checkpoint, signature, unit, progress=False, on_record=None):
+    """The loop of a sweep of `count` independent runs, one record each (the hopper's widths, the
+    capsule's (η, Ca) points): run_one(k) returns run k's record (a JSON-able dict); records the
+    checkpoint already holds are reused, each new one is appended at once (with its "index") and
+    handed to on_record(k, record). Returns the records in index order."""
+    ck = Checkpoint(checkpoint, signature)
+    done = {r["index"]: r for r in ck.records}
+    todo = [k for k in range(count) if k not in done]
+    from .droplets import _progress_bar
+    bar = _progress_bar(len(todo), unit, progress and bool(todo))
+    try:
+        for k in todo:
+            record = dict(run_one(k), index=k)
+            done[k] = record
+            ck.append(record)
+            if bar is not None:
+                bar.update(1)
+            if on_record is not None:
+                on_record(k, record)
+    finally:
+        ck.close()
+        if bar is not None:
+            bar.close()
+    return [done[k] for k in range(count)]

@@ -17,6 +17,7 @@ The `capsule` driver's runs, from Python: `shear(ca, **kw)` (simple shear, D_xy 
     print(r["D_xy"], r["theta_over_pi"])
 """
 from . import _mesoflow
+from ._checkpoint import run_indexed
 from ._params import fill
 
 _core = _mesoflow.capsule
@@ -99,30 +100,15 @@ def sweep(cas, etas=(0.5,), mode="constriction", checkpoint=None, progress=False
     if not cas:
         raise ValueError("cas must not be empty")
     points = [(None, c) for c in cas] if mode == "shear" else [(e, c) for e in etas for c in cas]
-    from ._checkpoint import Checkpoint
-    from .droplets import _progress_bar
     signature = {"mode": mode, "cas": cas, "etas": etas if mode == "constriction" else [],
                  "run": {k: getattr(params, k) for k in _RUN_KEYS}}
-    ck = Checkpoint(checkpoint, signature)
-    done = {r["index"]: r for r in ck.records}
-    todo = [k for k in range(len(points)) if k not in done]
-    bar = _progress_bar(len(todo), "runs", progress and bool(todo))
-    try:
-        for k in todo:
-            eta, ca = points[k]
-            r = _core.run_shear(params, ca, None) if mode == "shear" else _core.run_constriction(params, ca, eta, None)
-            record = dict(_jsonable(r), index=k)
-            done[k] = record
-            ck.append(record)
-            if bar is not None:
-                bar.update(1)
-            if callback is not None:
-                callback(k, record)
-    finally:
-        ck.close()
-        if bar is not None:
-            bar.close()
-    runs = [done[k] for k in range(len(points))]
+
+    def run_one(k):
+        eta, ca = points[k]
+        r = _core.run_shear(params, ca, None) if mode == "shear" else _core.run_constriction(params, ca, eta, None)
+        return _jsonable(r)
+
+    runs = run_indexed(len(points), run_one, checkpoint, signature, "runs", progress, callback)
     out = {"runs": runs}
     if mode == "constriction":
         table = []

@@ -26,7 +26,7 @@ width with a resume file, and Beverloo's eq. 1 fitted as the driver does:
     r["Q"], r["Q_error"], r["beverloo"]["beta"]
 """
 from . import _mesoflow
-from ._checkpoint import Checkpoint
+from ._checkpoint import run_indexed
 from ._params import fill
 
 _core = _mesoflow.hopper
@@ -124,25 +124,12 @@ def sweep(widths, dimension=2, model="sp", flow=None, checkpoint=None, progress=
     signature = {"model": model, "dimension": dimension, "widths": widths,
                  "scene": {k: str(v) for k, v in sorted(kw.items())},
                  "flow": {k: getattr(settings, k) for k in _FLOW_KEYS}}
-    ck = Checkpoint(checkpoint, signature)
-    done = {r["index"]: r for r in ck.records}
-    todo = [k for k in range(len(widths)) if k not in done]
-    from .droplets import _progress_bar
-    bar = _progress_bar(len(todo), "widths", progress and bool(todo))
-    try:
-        for k in todo:
-            record = dict(_core.measure_width(params, dimension, widths[k], k, settings), index=k, w=widths[k])
-            done[k] = record
-            ck.append(record)
-            if bar is not None:
-                bar.update(1)
-            if callback is not None:
-                callback(k, widths[k], record)
-    finally:
-        ck.close()
-        if bar is not None:
-            bar.close()
-    records = [done[k] for k in range(len(widths))]
+
+    def run_one(k):
+        return dict(_core.measure_width(params, dimension, widths[k], k, settings), w=widths[k])
+
+    records = run_indexed(len(widths), run_one, checkpoint, signature, "widths", progress,
+                          None if callback is None else lambda k, record: callback(k, widths[k], record))
     fit_rows = [(r["w"], r["Q"], r["Q_error"]) for r in records
                 if not r["clogged"] and r["steady"] and r["Q"] > 0 and r["Q_error"] > 0]
     beverloo = None
