@@ -35,6 +35,18 @@ inline MeasuredFrames measured_frames(const std::vector<std::int64_t>& steps, co
   return m;
 }
 
+// K = u_d/u_oil and the dimensionless numbers of a run (Appendix B) from its measured frames, with
+// the solvent's η (eq. B.3), mass density ρ = n m/Δx², the disc radius R, the plate friction γ and
+// k_BT: Re = ρ u_oil R/η, Pe = u_oil R γ/k_BT (D = k_BT/γ: the plate friction dominates the discs'
+// diffusion).
+struct RunNumbers {
+  double K = 0, reynolds = 0, peclet = 0;
+};
+
+inline RunNumbers run_numbers(const MeasuredFrames& m, double eta, double rho, double R, double friction, double kT) {
+  return {m.u_d / m.u_oil, rho * m.u_oil * R / eta, m.u_oil * R * friction / kT};
+}
+
 // The theory's numbers at this run: u_oil used, spacing a = L/N, B, β and the phase velocity.
 struct PhononSummary {
   double theory_uoil = 0, spacing = 0, B = 0, beta = 0, phase_velocity = 0;

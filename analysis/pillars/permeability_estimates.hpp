@@ -44,6 +44,8 @@ struct FlowMeasurement {
   long long samples = 0;
   double count_all = 0, velocity_all = 0, tether_all = 0;  // whole box: fluid count, Σu_x, all pillars' tethers
   std::vector<double> sample_u_box;                        // per sample: the whole box's Σu_x (its flux)
+  // Per sample and elevation bin (sample-major): fluid count and Σu_x; empty: no jackknife.
+  std::vector<double> sample_count_profile, sample_velocity_profile;
 
   bool walls() const { return dim == 3 && H > 0; }
 };
@@ -70,6 +72,10 @@ struct PermeabilityEstimates {
   // pillar force density, and the Brinkman fit (3D with walls and pillars).
   std::vector<double> z, mean_ux, u_s, pillar_force_density, brinkman;
   std::optional<BrinkmanFit> fit;
+  // Jackknife over 10 blocks of samples (delete one block, refit; σ² = (n−1)/n Σ(θ_k − θ̄)²) of
+  // the fit's α and B; 0 blocks: no per-sample profiles, no error.
+  int jackknife_blocks = 0;
+  double alpha_jackknife_error = 0, B_jackknife_error = 0;
 };
 
 // Standard error of the mean from 10 block means (0 with fewer than 10 samples).
@@ -87,6 +93,48 @@ inline double block_error(const std::vector<double>& x) {
   }
   m /= blocks;
   return std::sqrt(std::max(0.0, m2 / blocks - m * m) / (blocks - 1));
+}
+
+// The Brinkman fit's jackknife error (PermeabilityEstimates::alpha_jackknife_error): the profile
+// with one of 10 equal blocks of samples left out (samples beyond 10 blocks always kept) is refitted
+// per block. Needs ≥ 10 samples of per-sample profiles matching the bins; otherwise leaves 0.
+inline void brinkman_jackknife(const FlowMeasurement& m, PermeabilityEstimates& e) {
+  const int blocks = 10;
+  const std::size_t bins = m.count.size();
+  if (bins == 0 || m.sample_count_profile.size() != m.sample_velocity_profile.size() ||
+      m.sample_count_profile.size() % bins != 0)
+    return;
+  const std::size_t n = m.sample_count_profile.size() / bins, per = n / blocks;
+  if (per == 0) return;
+  std::vector<double> total_c(bins, 0.0), total_u(bins, 0.0);
+  for (std::size_t s = 0; s < n; ++s)
+    for (std::size_t b = 0; b < bins; ++b) {
+      total_c[b] += m.sample_count_profile[s * bins + b];
+      total_u[b] += m.sample_velocity_profile[s * bins + b];
+    }
+  std::vector<double> alpha(blocks), amplitude(blocks), u_s(bins);
+  for (int k = 0; k < blocks; ++k) {
+    std::vector<double> c = total_c, u = total_u;
+    for (std::size_t s = k * per; s < (k + 1) * per; ++s)
+      for (std::size_t b = 0; b < bins; ++b) {
+        c[b] -= m.sample_count_profile[s * bins + b];
+        u[b] -= m.sample_velocity_profile[s * bins + b];
+      }
+    for (std::size_t b = 0; b < bins; ++b) u_s[b] = c[b] > 0 ? m.porosity * u[b] / c[b] : 0.0;
+    const BrinkmanFit f = fit_brinkman(e.z, u_s, m.H);
+    alpha[k] = f.alpha;
+    amplitude[k] = f.B;
+  }
+  const auto jackknife = [&](const std::vector<double>& x) {
+    double mean = 0, ss = 0;
+    for (double v : x) mean += v;
+    mean /= blocks;
+    for (double v : x) ss += (v - mean) * (v - mean);
+    return std::sqrt(ss * (blocks - 1) / blocks);
+  };
+  e.jackknife_blocks = blocks;
+  e.alpha_jackknife_error = jackknife(alpha);
+  e.B_jackknife_error = jackknife(amplitude);
 }
 
 inline PermeabilityEstimates estimate_permeability(const FlowMeasurement& m) {
@@ -163,6 +211,7 @@ inline PermeabilityEstimates estimate_permeability(const FlowMeasurement& m) {
     e.pillar_force_density[b] = m.pillar_force[b] / samples / ((m.x_hi - m.x_lo) * m.Ly * bw);
   }
   if (m.walls() && has_pillars && bins >= 3) e.fit = fit_brinkman(e.z, e.u_s, m.H);
+  if (e.fit) brinkman_jackknife(m, e);
   e.brinkman.resize(bins);
   for (int b = 0; b < bins; ++b) e.brinkman[b] = e.fit ? brinkman_profile(e.z[b], e.fit->B, e.fit->alpha, m.H) : 0.0;
   return e;
@@ -176,14 +225,17 @@ inline std::array<std::pair<const char*, double>, 4> square_array_theory(double 
            {"tsay_weinbaum_fit", kappa_tsay_weinbaum_fit(eps)}}};
 }
 
-// Brinkman's fit (eq. 5, α) with the pillars' own permeability κ_p (from the matching 2D run), walls
-// H apart: κ_p, μ_eff/μ, eq. (7)'s κ_eff and B's theory value κ_p Δp/(μ L_x), named as in the run
-// summary.
-inline std::array<std::pair<const char*, double>, 4> brinkman_theory(double kappa_p, double alpha, double H,
-                                                                     double pressure_difference, double mu,
-                                                                     double Lx) {
+// Brinkman's fit (eq. 5, α with its error δα) with the pillars' own permeability κ_p (from the
+// matching 2D run), walls H apart: κ_p, μ_eff/μ = 1/(κ_p α²) and its error from δα alone
+// (2 μ_eff δα/α; κ_p's own error is the 2D run's), eq. (7)'s κ_eff and B's theory value
+// κ_p Δp/(μ L_x), named as in the run summary.
+inline std::array<std::pair<const char*, double>, 5> brinkman_theory(double kappa_p, double alpha, double alpha_error,
+                                                                     double H, double pressure_difference,
+                                                                     double mu, double Lx) {
+  const double mu_eff = mu_eff_ratio(kappa_p, alpha);
   return {{{"kappa_p", kappa_p},
-           {"mu_eff_over_mu", mu_eff_ratio(kappa_p, alpha)},
+           {"mu_eff_over_mu", mu_eff},
+           {"mu_eff_over_mu_error_alpha", 2 * mu_eff * alpha_error / alpha},
            {"kappa_eff_eq7", kappa_eff_brinkman(kappa_p, alpha, H)},
            {"B_theory", kappa_p * pressure_difference / (mu * Lx)}}};
 }

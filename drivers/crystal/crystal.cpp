@@ -48,7 +48,6 @@ struct Parameters : crystal::CrystalRunParameters {
   int threads = 0;
   bool restart = false;
   bool no_plot = false;
-  bool force_dt = false;  // --force-dt
 };
 
 template <class Real>
@@ -86,11 +85,10 @@ void run(const Parameters& par, const cli::DriverApp& app) {
   const auto m = crystal::measured_frames(rec.steps, rec.u_d, rec.u_oil, run.warmup_steps());
   const std::size_t frames = m.count;
   const double ud = m.u_d, uoil = m.u_oil;
-  const double K = ud / uoil;
   const double eta = crystal::viscosity_b3(f);
-  const double rho = f.density * f.mass / (f.cell_size * f.cell_size);
-  const double reynolds = rho * uoil * f.disc_radius / eta;
-  const double peclet = uoil * f.disc_radius * f.friction / f.kT;  // D = k_BT/γ (plate friction dominates)
+  const auto numbers = crystal::run_numbers(m, eta, f.density * f.mass / (f.cell_size * f.cell_size), f.disc_radius,
+                                            f.friction, f.kT);
+  const double K = numbers.K, reynolds = numbers.reynolds, peclet = numbers.peclet;
 
   cli::Json j{{"driver", "crystal"}, {"discs", nd}, {"solvent_particles", flow.num_solvent()},
               {"measured_frames", frames}, {"u_d", ud}, {"u_oil", uoil}, {"K", K}, {"wall_virtual", par.wall_virtual},
@@ -183,9 +181,7 @@ int main(int argc, char** argv) {
   app.add_flag("--restart", par.restart, "continue from <out>.ckpt.h5");
   app.add_flag("--no-plot", par.no_plot, "do not write the PNG plot");
   return app.run(argc, argv, [&] {
-    // WCA contacts of the discs and the solvent's bounce-back (kernels/mpc/stability.hpp).
-    const auto limit = mesoflow::mpc::channel_flow_stability(f, par.discs > 0);
-    mesoflow::cli::check_time_step("crystal", f.h, {limit.max_dt(), limit.limiting_term("τ")}, par.force_dt);
+    par.validate();  // the run's ranges and the step against the stability limit
     mesoflow::KokkosScope kokkos(par.threads);
     if (par.precision == "float")
       mesoflow::run<float>(par, app);

@@ -103,7 +103,7 @@ void run_flow(const Parameters& par, const cli::DriverApp& app) {
                              mu, s.driving_force, par.density, par.driving_length, rec.count, rec.velocity,
                              rec.pillar_force, rec.tether, rec.driven, rec.sum_u, rec.sum_u2, rec.sample_u,
                              rec.sample_tether, rec.samples, rec.count_all, rec.velocity_all, rec.tether_all,
-                             rec.sample_u_box};
+                             rec.sample_u_box, rec.sample_count_profile, rec.sample_velocity_profile};
   const auto e = pillars::estimate_permeability(m);
   pillars::write_flow_profile(stem + "_profile.csv", e, rec.count);
   recording.write_xdmf(out.xdmf);
@@ -138,9 +138,12 @@ void run_flow(const Parameters& par, const cli::DriverApp& app) {
   if (e.fit) {
     const auto& f = *e.fit;
     cli::Json b{{"B", f.B}, {"alpha", f.alpha}, {"rms_residual", f.rms_residual},
-                {"alpha_at_bound", f.alpha_at_lower_bound || f.alpha_at_upper_bound}};
+                {"alpha_at_bound", f.alpha_at_lower_bound || f.alpha_at_upper_bound},
+                {"jackknife_blocks", e.jackknife_blocks}, {"alpha_error", e.alpha_jackknife_error},
+                {"B_error", e.B_jackknife_error}};
     if (par.kappa_p > 0)
-      for (const auto& [name, value] : pillars::brinkman_theory(par.kappa_p, f.alpha, g.H, e.pressure_difference, mu, g.Lx))
+      for (const auto& [name, value] : pillars::brinkman_theory(par.kappa_p, f.alpha, e.alpha_jackknife_error, g.H,
+                                                                e.pressure_difference, mu, g.Lx))
         b[name] = value;
     j["brinkman"] = b;
   }

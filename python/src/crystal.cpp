@@ -1,14 +1,23 @@
 // crystal.cpp — bindings of the microfluidic crystal's channel flow (mpc-microfluidic-crystal-phonons:
 // MPC-AT+a solvent between no-slip walls with rigid discs, scenes/crystal/channel_flow.hpp), stepped
 // from Python, the solvent and the discs as arrays. The phonon analysis is in mesoflow.analysis.
+// run_crystal: the `crystal` driver's run (scenes/crystal/crystal_run.hpp) as one call, with its
+// results file, K and the phonon analysis (analysis/crystal/run_analysis.hpp) as the driver has them.
+#include "analysis/crystal/run_analysis.hpp"
 #include "python/src/lifetime.hpp"
 #include "scenes/crystal/channel_flow.hpp"
+#include "scenes/crystal/crystal_run.hpp"
 
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <chrono>
 #include <memory>
+#include <sstream>
+#include <string>
+#include <utility>
+#include <vector>
 
 namespace py = pybind11;
 
@@ -19,6 +28,82 @@ using Params = mpc::ChannelFlowParameters<double>;
 using Flow = mpc::ChannelFlow<double>;
 
 using PyChannel = Owned<Flow>;
+using RunParams = crystal::CrystalRunParameters;
+
+struct StopRun {};
+
+py::array_t<double> array(const std::vector<double>& v) { return py::array_t<double>(py::ssize_t(v.size()), v.data()); }
+
+// The driver's run into `output` (<base>.h5, <base>.xdmf, <base>.ckpt.h5, and with two or more discs
+// <base>_phonons.h5 and <base>_theory.csv; with one disc <base>_far_profile.csv): the results file's
+// parameters are `resolved`; callback(step, time) at every frame, False stops the run (the files so
+// far are kept, no analysis). Returns what the driver's JSON has, with the frames as arrays.
+py::dict run_crystal(const RunParams& par, const std::string& output, py::object callback,
+                     const std::vector<std::pair<std::string, std::string>>& resolved) {
+  par.validate();
+  if (par.precision != "double")
+    throw std::invalid_argument("crystal run: the Python module runs in double precision (the crystal driver has "
+                                "--precision float), got precision '" + par.precision + "'");
+  if (output.size() < 4 || output.compare(output.size() - 3, 3, ".h5") != 0)
+    throw std::invalid_argument("crystal run: output must end in .h5, got '" + output + "'");
+  require_kokkos();
+  const std::string base = output.substr(0, output.size() - 3);
+  const auto& f = par.flow;
+  crystal::CrystalRun<double> run(par, base + ".ckpt.h5", crystal::scene_signature(par));
+  run.start(output, resolved);
+  bool stopped = false;
+  const auto t0 = std::chrono::steady_clock::now();
+  try {
+    run.run([&](std::int64_t step) {
+      if (step % run.frame_steps() != 0 && step != run.total_steps()) return;
+      if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+      if (!callback.is_none() && callback(step, double(step) * f.h).equal(py::bool_(false))) throw StopRun{};
+    });
+  } catch (const StopRun&) {
+    stopped = true;
+  }
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  run.close(base + ".xdmf");
+  const auto& rec = run.record();
+  const std::size_t nd = run.discs();
+  py::dict r;
+  r["stopped"] = stopped, r["discs"] = nd, r["solvent_particles"] = run.flow().num_solvent();
+  r["steps"] = (long long)run.flow().steps_done(), r["wall_seconds"] = wall;
+  r["signature"] = crystal::scene_signature(par);
+  std::vector<double> frame_time;
+  for (const auto s : rec.steps) frame_time.push_back(double(s) * f.h);
+  r["frame_time"] = array(frame_time), r["u_d_series"] = array(rec.u_d), r["u_oil_series"] = array(rec.u_oil);
+  const std::size_t frames = rec.steps.size();
+  py::array_t<double> x({py::ssize_t(frames), py::ssize_t(nd)}), y({py::ssize_t(frames), py::ssize_t(nd)});
+  std::copy(rec.x.begin(), rec.x.end(), x.mutable_data());
+  std::copy(rec.y.begin(), rec.y.end(), y.mutable_data());
+  r["x"] = x, r["y"] = y;
+  if (stopped) return r;
+  const auto m = crystal::measured_frames(rec.steps, rec.u_d, rec.u_oil, run.warmup_steps());
+  const double eta = crystal::viscosity_b3(f);
+  const auto numbers =
+      crystal::run_numbers(m, eta, f.density * f.mass / (f.cell_size * f.cell_size), f.disc_radius, f.friction, f.kT);
+  r["measured_frames"] = m.count, r["u_d"] = m.u_d, r["u_oil"] = m.u_oil, r["K"] = numbers.K;
+  r["wall_virtual"] = par.wall_virtual, r["viscosity_b3"] = eta, r["reynolds"] = numbers.reynolds;
+  r["peclet"] = numbers.peclet;
+  if (run.far_field()) {
+    const auto& ff = rec.far_field();
+    rec.write_far_profile(base + "_far_profile.csv");
+    const auto [u_far, u_axis] = rec.far_speeds();
+    py::dict d;
+    d["from_disc"] = ff.from_disc, d["u_mean"] = u_far, d["u_axis"] = u_axis;
+    d["K_mean"] = u_far != 0 ? m.u_d / u_far : 0.0, d["K_axis"] = u_axis != 0 ? m.u_d / u_axis : 0.0;
+    r["far_field"] = d;
+  }
+  if (nd >= 2) {
+    const double dt_frame = double(run.frame_steps()) * f.h;
+    const auto ph = crystal::phonon_analysis(rec.x, rec.y, m, nd, f.length, f.width, f.disc_radius,
+                                             par.calibrated_ratio, dt_frame, base + "_phonons.h5", base + "_theory.csv");
+    r["theory_K"] = m.u_d / ph.theory_uoil, r["spacing"] = ph.spacing, r["B"] = ph.B, r["beta"] = ph.beta;
+    r["phase_velocity"] = ph.phase_velocity, r["frame_interval"] = dt_frame;
+  }
+  return r;
+}
 
 }  // namespace
 
@@ -48,6 +133,27 @@ void bind_crystal(py::module_& top) {
       .def_readwrite("seed", &Params::seed)
       .def_readwrite("sort_interval", &Params::sort_interval)
       .def_readwrite("deterministic", &Params::deterministic);
+  py::class_<RunParams>(m, "CrystalRunParameters", "the `crystal` driver's run (defaults: the paper's scene)")
+      .def(py::init<>())
+      .def_readwrite("flow", &RunParams::flow)
+      .def_readwrite("rule", &RunParams::rule)
+      .def_readwrite("wall_virtual", &RunParams::wall_virtual)
+      .def_readwrite("discs", &RunParams::discs)
+      .def_readwrite("wavelength", &RunParams::wavelength)
+      .def_readwrite("amplitude", &RunParams::amplitude)
+      .def_readwrite("warmup", &RunParams::warmup)
+      .def_readwrite("time", &RunParams::time)
+      .def_readwrite("frame_interval", &RunParams::frame_interval)
+      .def_readwrite("checkpoint_interval", &RunParams::checkpoint_interval)
+      .def_readwrite("check_every", &RunParams::check_every)
+      .def_readwrite("calibrated_ratio", &RunParams::calibrated_ratio)
+      .def_readwrite("seed", &RunParams::seed)
+      .def_readwrite("precision", &RunParams::precision)
+      .def_readwrite("force_dt", &RunParams::force_dt)
+      .def("validate", &RunParams::validate, "the run's ranges and the step's stability limit (ValueError)");
+  m.def("run_crystal", &run_crystal, py::arg("parameters"), py::arg("output"), py::arg("callback") = py::none(),
+        py::arg("resolved") = std::vector<std::pair<std::string, std::string>>{},
+        "the `crystal` driver's run as one call (callback(step, time) per frame; False stops it)");
   py::class_<PyChannel>(m, "ChannelFlow", "The channel with its solvent at temperature and the discs at rest")
       .def(py::init<const Params&, const std::vector<std::array<double, 2>>&>(), py::arg("parameters"),
            py::arg("disc_centres") = std::vector<std::array<double, 2>>{})

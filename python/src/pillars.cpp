@@ -66,7 +66,7 @@ void bind_flow(py::module_& m, const char* name) {
       .def_property_readonly("time", [](S& s) { return s.get().system().time(); })
       .def(
           "permeability",
-          [](S& s, double viscosity) {
+          [](S& s, double viscosity, double kappa_p) {
             const auto& f = s.get();
             const auto& st = f.settings();
             const auto& g = st.geometry;
@@ -75,6 +75,9 @@ void bind_flow(py::module_& m, const char* name) {
             if (!(viscosity >= 0) || !std::isfinite(viscosity))
               throw std::invalid_argument("permeability: viscosity must be finite and >= 0 (0: the paper's), got " +
                                           std::to_string(viscosity));
+            if (!(kappa_p >= 0) || !std::isfinite(kappa_p))
+              throw std::invalid_argument("permeability: kappa_p must be finite and >= 0 (0: none), got " +
+                                          std::to_string(kappa_p));
             pillars::PillarRunParameters par;
             par.viscosity = viscosity;
             const double mu = par.viscosity_for_kappa(D);
@@ -83,7 +86,8 @@ void bind_flow(py::module_& m, const char* name) {
                                              f.x_hi(), mu, st.driving_force, st.density, st.driving_length, rec.count,
                                              rec.velocity, rec.pillar_force, rec.tether, rec.driven, rec.sum_u,
                                              rec.sum_u2, rec.sample_u, rec.sample_tether, rec.samples, rec.count_all,
-                                             rec.velocity_all, rec.tether_all, rec.sample_u_box};
+                                             rec.velocity_all, rec.tether_all, rec.sample_u_box,
+                                             rec.sample_count_profile, rec.sample_velocity_profile};
             const auto e = pillars::estimate_permeability(m);
             py::dict d;
             d["viscosity_used"] = mu, d["mean_ux"] = e.mean_u, d["mean_ux_naive_error"] = e.mean_u_naive_error;
@@ -98,11 +102,25 @@ void bind_flow(py::module_& m, const char* name) {
             d["kappa_darcy_box_relative_error"] = e.kappa_darcy_box_relative_error;
             d["kappa_drag_tether_region"] = e.kappa_drag_tether_region;
             d["superficial_velocity_box"] = e.superficial_velocity_box;
+            if (e.fit) {  // 3D with walls: Brinkman's eq. 5, as the driver's JSON "brinkman"
+              const auto& fit = *e.fit;
+              py::dict b;
+              b["B"] = fit.B, b["alpha"] = fit.alpha, b["rms_residual"] = fit.rms_residual;
+              b["alpha_at_bound"] = fit.alpha_at_lower_bound || fit.alpha_at_upper_bound;
+              b["jackknife_blocks"] = e.jackknife_blocks, b["alpha_error"] = e.alpha_jackknife_error;
+              b["B_error"] = e.B_jackknife_error;
+              if (kappa_p > 0)
+                for (const auto& [name, value] : pillars::brinkman_theory(kappa_p, fit.alpha, e.alpha_jackknife_error,
+                                                                          g.H, e.pressure_difference, mu, g.Lx))
+                  b[name] = value;
+              d["brinkman"] = b;
+            }
             return d;
           },
-          py::arg("viscosity") = 0.0,
+          py::arg("viscosity") = 0.0, py::arg("kappa_p") = 0.0,
           "the `pillars` driver's permeability estimates from the samples so far (Darcy, eqs. 1-2; drag, eq. 3): "
-          "κ_darcy, κ_drag_tether, ... with μ = viscosity (0: the paper's 26.1 in 2D, 17.5 in 3D)")
+          "κ_darcy, κ_drag_tether, ... with μ = viscosity (0: the paper's 26.1 in 2D, 17.5 in 3D); between walls "
+          "also 'brinkman' (eq. 5's B and α with their jackknife errors; with kappa_p > 0, μ_eff/μ and eq. 7)")
       .def_property_readonly("components", [](S& s) { return s.get().components(); })
       .def_property_readonly("solid_particles", [](S& s) { return s.get().solid_particles(); })
       .def_property_readonly("porosity", [](S& s) { return s.get().settings().porosity; })

@@ -41,3 +41,46 @@ def test_the_body_force_drives_the_solvent_and_the_discs_and_runs_repeat_bit_for
     assert a.solvent_momentum[0] > 0 and np.all(a.disc_velocities[:, 0] > 0)  # pushed along +x
     if mesoflow.host_backend():
         assert not a.positions.flags["OWNDATA"]
+
+
+RUN = dict(length=60.0, width=15.0, density=5.0, discs=3, warmup=0.5, time=2.0, frame_interval=0.5, seed=3)
+RUN_FLAGS = ["--length", "60", "--width", "15", "--density", "5", "--discs", "3", "--warmup", "0.5", "--time", "2",
+             "--frame-interval", "0.5", "--seed", "3"]
+
+
+def test_one_call_run_is_the_drivers_bit_for_bit(bin_dir, tmp_path):
+    """crystal.run() is the driver's run (issue 30): the same frames, K and phonon numbers, and its
+    results file with the phonon files beside it."""
+    import json
+    import os
+    import subprocess
+    import h5py
+    out = tmp_path / "drv.h5"
+    subprocess.run([os.path.join(bin_dir, "crystal"), "--quiet", "--threads", "1", "--no-plot", *RUN_FLAGS,
+                    "--output", str(out)], check=True)
+    with open(tmp_path / "drv.json") as f:
+        driver = json.load(f)
+    frames = []
+    r = crystal.run(str(tmp_path / "py.h5"), callback=lambda step, t: frames.append(step), **RUN)
+    assert not r["stopped"] and r["discs"] == 3 and r["measured_frames"] == driver["measured_frames"]
+    for key in ("u_d", "u_oil", "K", "reynolds", "peclet", "viscosity_b3", "theory_K", "spacing", "B", "beta",
+                "phase_velocity", "frame_interval"):
+        assert r[key] == driver[key], key
+    assert r["x"].shape == (len(frames) + 1, 3) and np.all(np.diff(r["frame_time"]) > 0)  # + the first frame
+    with h5py.File(out, "r") as a, h5py.File(tmp_path / "py.h5", "r") as b:
+        assert np.array_equal(a["particles/discs/position/value"][()], b["particles/discs/position/value"][()])
+    for suffix in ("_phonons.h5", "_theory.csv", ".xdmf", ".ckpt.h5"):
+        assert (tmp_path / ("py" + suffix)).exists(), suffix
+
+
+def test_a_run_refuses_bad_values_and_stops_on_request(tmp_path):
+    with pytest.raises(ValueError, match="frame_interval must be in"):
+        crystal.run(str(tmp_path / "a.h5"), **dict(RUN, frame_interval=0.0))
+    with pytest.raises(ValueError, match="rule must be one of at\\+a, at-a, srd"):
+        crystal.run(str(tmp_path / "a.h5"), **dict(RUN, rule="lbm"))
+    with pytest.raises(ValueError, match="time step dt must be <="):
+        crystal.run(str(tmp_path / "a.h5"), **dict(RUN, h=0.5))
+    with pytest.raises(TypeError, match="unknown parameter tme"):
+        crystal.run(str(tmp_path / "a.h5"), tme=3.0)
+    r = crystal.run(str(tmp_path / "s.h5"), callback=lambda step, t: t < 1.0, **RUN)
+    assert r["stopped"] and "K" not in r and r["frame_time"][-1] == pytest.approx(1.0)

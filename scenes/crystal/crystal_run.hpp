@@ -16,6 +16,7 @@
 #include "kernels/mpc/mpc_viscosity.hpp"
 #include "scenes/common/checkpoint_fields.hpp"
 #include "scenes/common/nan_watchdog.hpp"
+#include "scenes/common/time_step_limit.hpp"
 #include "scenes/crystal/crystal_record.hpp"
 
 #include <algorithm>
@@ -48,6 +49,40 @@ struct CrystalRunParameters {
   double calibrated_ratio = 0;  // K of a single-disc run for the theory curves; 0: this run's u_d/u_oil
   long long seed = 1;
   std::string precision = "double";
+  bool force_dt = false;  // run a step above the stability limit (a warning instead of an error)
+
+  // The run's own ranges (the driver's options give the same) and the step against the stability
+  // limit of the discs' WCA contacts and the solvent's bounce-back (kernels/mpc/stability.hpp);
+  // the channel's own values are checked where the flow is built. Throws std::invalid_argument
+  // naming the parameter and its range.
+  void validate() const {
+    const auto range = [](const char* name, double v, double lo, double hi, bool open_lo) {
+      if (!std::isfinite(v) || v > hi || v < lo || (open_lo && v == lo)) {
+        std::ostringstream m;
+        m << "crystal: " << name << " must be in " << (open_lo ? "(" : "[") << lo << ", " << hi << "], got " << v;
+        throw std::invalid_argument(m.str());
+      }
+    };
+    if (rule != "at+a" && rule != "at-a" && rule != "srd")
+      throw std::invalid_argument("crystal: rule must be one of at+a, at-a, srd, got '" + rule + "'");
+    if (wall_virtual != "mirror" && wall_virtual != "maxwell")
+      throw std::invalid_argument("crystal: wall_virtual must be mirror or maxwell, got '" + wall_virtual + "'");
+    if (precision != "double" && precision != "float")
+      throw std::invalid_argument("crystal: precision must be double or float, got '" + precision + "'");
+    range("discs", double(discs), 0, 1e6, false);
+    range("wavelength", double(wavelength), 1, 1e6, false);
+    range("amplitude", amplitude, -1, 1e4, false);
+    range("warmup", warmup, 0, 1e9, false);
+    range("time", time, 0, 1e9, true);
+    range("frame_interval", frame_interval, 0, 1e9, true);
+    range("checkpoint_interval", checkpoint_interval, 0, 1e9, true);
+    range("check_every", double(check_every), 1, 1e6, false);
+    range("calibrated_ratio", calibrated_ratio, 0, 1, false);
+    range("seed", double(seed), 0, 4294967295.0, false);
+    range("h", flow.h, 0, 10, true);
+    const auto limit = mpc::channel_flow_stability(flow, discs > 0);
+    cli::check_time_step("crystal", flow.h, {limit.max_dt(), limit.limiting_term("τ")}, force_dt);
+  }
 };
 
 // η of eq. (B.3) (MPC-AT+a, d = 2, large n).

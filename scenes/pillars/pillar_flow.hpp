@@ -111,6 +111,9 @@ struct FlowRecord {
   double wall_bottom = 0, wall_top = 0, tether = 0, sum_u = 0, sum_u2 = 0, driven = 0;
   double count_all = 0, velocity_all = 0, tether_all = 0;  // whole box (fluid count, Σu_x; all pillars' tethers)
   std::vector<double> sample_u, sample_tether, sample_u_box;  // per sample, for block-averaged errors
+  // Per sample and bin (sample-major, bins per sample): fluid count and Σu_x, for the Brinkman fit's
+  // jackknife error over blocks of samples.
+  std::vector<double> sample_count_profile, sample_velocity_profile;
   long long samples = 0;
 
   explicit FlowRecord(int bins = 0) : count(bins, 0), velocity(bins, 0), pillar_force(bins, 0) {}
@@ -124,6 +127,8 @@ struct FlowRecord {
       pillar_force[b] += fs.pillar_force[b];
       c += fs.count[b];
       u += fs.velocity[b];
+      sample_count_profile.push_back(fs.count[b]);
+      sample_velocity_profile.push_back(fs.velocity[b]);
     }
     wall_bottom += fs.wall_force_bottom;
     wall_top += fs.wall_force_top;
@@ -150,6 +155,8 @@ struct FlowRecord {
     a("samples/per_sample_u", sample_u);
     a("samples/per_sample_tether", sample_tether);
     a("samples/per_sample_u_box", sample_u_box);
+    a("samples/per_sample_count_profile", sample_count_profile);
+    a("samples/per_sample_velocity_profile", sample_velocity_profile);
     std::vector<double> sums{wall_bottom, wall_top, tether, sum_u, sum_u2, driven, count_all, velocity_all, tether_all};
     a("samples/sums", sums);
     if (Archive::loading) {
