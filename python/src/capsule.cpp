@@ -27,11 +27,6 @@ using Scene = capsule::CapsuleScene<double>;
 using PyCapsule = Owned<Scene>;
 using RunParams = capsule::CapsuleRunParameters;
 
-// A callback that returns False stops a run after the sample it was shown.
-struct StopRun {};
-
-py::array_t<double> array(const std::vector<double>& v) { return py::array_t<double>(py::ssize_t(v.size()), v.data()); }
-
 py::dict physical_dict(const capsule::Physical& p) {
   py::dict d;
   d["diameter"] = p.d, d["radius"] = p.a, d["viscosity"] = p.mu, d["surface_shear_modulus"] = p.G_s;

@@ -30,10 +30,6 @@ using Flow = mpc::ChannelFlow<double>;
 using PyChannel = Owned<Flow>;
 using RunParams = crystal::CrystalRunParameters;
 
-struct StopRun {};
-
-py::array_t<double> array(const std::vector<double>& v) { return py::array_t<double>(py::ssize_t(v.size()), v.data()); }
-
 // The driver's run into `output` (<base>.h5, <base>.xdmf, <base>.ckpt.h5, and with two or more discs
 // <base>_phonons.h5 and <base>_theory.csv; with one disc <base>_far_profile.csv): the results file's
 // parameters are `resolved`; callback(step, time) at every frame, False stops the run (the files so

@@ -16,6 +16,9 @@
 #include <stdexcept>
 #include <string>
 #include <type_traits>
+#include <vector>
+
+namespace py = pybind11;
 
 namespace mesoflow::python {
 
@@ -52,6 +55,15 @@ class Owned : public Releasable {
  private:
   std::unique_ptr<T> object_;
 };
+
+// Thrown from a run's per-sample hook when a Python callback returns False; the binding catches it
+// and reports the run as stopped.
+struct StopRun {};
+
+// A NumPy copy of a host vector (a run's series).
+inline py::array_t<double> array(const std::vector<double>& v) {
+  return py::array_t<double>(py::ssize_t(v.size()), v.data());
+}
 
 // `steps` steps of any scene with step(), checking for Ctrl-C every `signal_every` steps.
 template <class Scene>

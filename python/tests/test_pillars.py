@@ -63,9 +63,9 @@ def test_the_permeability_estimates_are_the_drivers_bit_for_bit(bin_dir, tmp_pat
         f.permeability(viscosity=-1.0)
 
 
-WALLS = dict(layout="square", porosity=0.7, cells_x=2, cells_y=1, height=5.0)
-WALLS_FLAGS = ["--dimension", "3", "--layout", "square", "--porosity", "0.7", "--cells-x", "2", "--cells-y", "1",
-               "--height", "5", "--equilibrate-steps", "50", "--warmup-steps", "50", "--steps", "200",
+WALLS = dict(layout="square", porosity=0.6, cells_x=2, cells_y=1, height=5.0, fb=2.0)
+WALLS_FLAGS = ["--dimension", "3", "--layout", "square", "--porosity", "0.6", "--cells-x", "2", "--cells-y", "1",
+               "--height", "5", "--fb", "2", "--equilibrate-steps", "50", "--warmup-steps", "50", "--steps", "200",
                "--sample-every", "2", "--kappa-p", "0.4"]
 
 
@@ -83,11 +83,11 @@ def test_one_call_run_between_walls_is_the_drivers_bit_for_bit(bin_dir, tmp_path
     for key in ("kappa_darcy_box", "kappa_darcy_box_relative_error", "kappa_drag_tether", "pressure_difference"):
         assert r[key] == driver[key], key
     b, db = r["brinkman"], driver["brinkman"]
-    assert b["jackknife_blocks"] == 10 and b["B_error"] > 0  # (this short run fits α at its bound: no α spread)
+    assert b["jackknife_blocks"] == 10 and not b["alpha_at_bound"] and b["alpha_error"] > 0 and b["B_error"] > 0
     for key in ("alpha", "B", "alpha_error", "B_error", "mu_eff_over_mu", "mu_eff_over_mu_error_alpha",
                 "kappa_eff_eq7", "B_theory"):
         assert b[key] == db[key], key
-    assert b["mu_eff_over_mu_error_alpha"] == pytest.approx(2 * b["mu_eff_over_mu"] * b["alpha_error"] / b["alpha"], abs=1e-300)
+    assert b["mu_eff_over_mu_error_alpha"] == pytest.approx(2 * b["mu_eff_over_mu"] * b["alpha_error"] / b["alpha"])
     with pytest.raises(ValueError, match="kappa_p must be finite and >= 0"):
         pillars.run(dimension=3, equilibrate=0, warmup=0, steps=10, kappa_p=-1.0, **WALLS)
     with pytest.raises(ValueError, match="steps must be an integer >= 0"):
