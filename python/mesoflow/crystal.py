@@ -64,14 +64,16 @@ def run_parameters(**kw):
     return p
 
 
-def run(output="crystal.h5", callback=None, **kw):
+def run(output="crystal.h5", callback=None, restart=False, **kw):
     """One run of the `crystal` driver with the same scene (kw: run_parameters' keywords), its files at
     `output` (.h5; the checkpoint, XDMF and the phonon files beside it). Returns a dict with what the
     driver's JSON has (K, u_d, u_oil, Re, Pe, η of eq. B.3; with two or more discs the theory's K, B,
     β, phase velocity and spacing; with one disc the far field) and the frames: frame_time,
     u_d_series, u_oil_series, x and y (frames × discs, unwrapped along x). callback(step, time) at
-    every frame; returning False stops the run ("stopped": True, no analysis)."""
+    every frame; returning False stops the run ("stopped": True, no analysis) and writes a checkpoint
+    there. restart=True continues from `output`'s checkpoint as the driver's --restart does: the same
+    scene (ValueError otherwise), `time` may grow; "resumed_from_step" says where it began."""
     p = run_parameters(**kw)
     resolved = [(k, str(getattr(p, k))) for k in _RUN_KEYS if k != "force_dt"]
     resolved += [(k, str(getattr(p.flow, k))) for k in _RUN_FLOW_KEYS]
-    return _core.run_crystal(p, str(output), callback, resolved)
+    return _core.run_crystal(p, str(output), callback, resolved, bool(restart))

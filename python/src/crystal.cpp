@@ -13,6 +13,7 @@
 #include <pybind11/stl.h>
 
 #include <chrono>
+#include <filesystem>
 #include <memory>
 #include <sstream>
 #include <string>
@@ -33,9 +34,11 @@ using RunParams = crystal::CrystalRunParameters;
 // The driver's run into `output` (<base>.h5, <base>.xdmf, <base>.ckpt.h5, and with two or more discs
 // <base>_phonons.h5 and <base>_theory.csv; with one disc <base>_far_profile.csv): the results file's
 // parameters are `resolved`; callback(step, time) at every frame, False stops the run (the files so
-// far are kept, no analysis). Returns what the driver's JSON has, with the frames as arrays.
+// far are kept, with a checkpoint at the stop, no analysis). restart: continue from <base>.ckpt.h5 as the
+// driver's --restart does (the same scene; time may grow). Returns what the driver's JSON has, with the
+// frames as arrays.
 py::dict run_crystal(const RunParams& par, const std::string& output, py::object callback,
-                     const std::vector<std::pair<std::string, std::string>>& resolved) {
+                     const std::vector<std::pair<std::string, std::string>>& resolved, bool restart) {
   par.validate();
   if (par.precision != "double")
     throw std::invalid_argument("crystal run: the Python module runs in double precision (the crystal driver has "
@@ -45,8 +48,21 @@ py::dict run_crystal(const RunParams& par, const std::string& output, py::object
   require_kokkos();
   const std::string base = output.substr(0, output.size() - 3);
   const auto& f = par.flow;
-  crystal::CrystalRun<double> run(par, base + ".ckpt.h5", crystal::scene_signature(par));
-  run.start(output, resolved);
+  const std::string checkpoint = base + ".ckpt.h5", signature = crystal::scene_signature(par);
+  crystal::CrystalRun<double> run(par, checkpoint, signature);
+  if (restart) {
+    if (!std::filesystem::exists(checkpoint))
+      throw std::invalid_argument("crystal run: restart=True needs the checkpoint " + checkpoint + ", which does not exist");
+    const io::CheckpointReader ck(checkpoint);
+    const std::string stored = ck.get_string("scene");
+    if (stored != signature)
+      throw std::invalid_argument("crystal run: restart: " + checkpoint + " was written by another scene (" + stored +
+                                  "); only time, checkpoint_interval and check_every may change");
+    run.resume(ck, output);
+  } else {
+    run.start(output, resolved);
+  }
+  const long long first = (long long)run.flow().steps_done();
   bool stopped = false;
   const auto t0 = std::chrono::steady_clock::now();
   try {
@@ -57,6 +73,7 @@ py::dict run_crystal(const RunParams& par, const std::string& output, py::object
     });
   } catch (const StopRun&) {
     stopped = true;
+    run.checkpoint_now();  // restart=True continues from this frame
   }
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   run.close(base + ".xdmf");
@@ -65,6 +82,7 @@ py::dict run_crystal(const RunParams& par, const std::string& output, py::object
   py::dict r;
   r["stopped"] = stopped, r["discs"] = nd, r["solvent_particles"] = run.flow().num_solvent();
   r["steps"] = (long long)run.flow().steps_done(), r["wall_seconds"] = wall;
+  r["resumed_from_step"] = first;
   r["signature"] = crystal::scene_signature(par);
   std::vector<double> frame_time;
   for (const auto s : rec.steps) frame_time.push_back(double(s) * f.h);
@@ -148,7 +166,7 @@ void bind_crystal(py::module_& top) {
       .def_readwrite("force_dt", &RunParams::force_dt)
       .def("validate", &RunParams::validate, "the run's ranges and the step's stability limit (ValueError)");
   m.def("run_crystal", &run_crystal, py::arg("parameters"), py::arg("output"), py::arg("callback") = py::none(),
-        py::arg("resolved") = std::vector<std::pair<std::string, std::string>>{},
+        py::arg("resolved") = std::vector<std::pair<std::string, std::string>>{}, py::arg("restart") = false,
         "the `crystal` driver's run as one call (callback(step, time) per frame; False stops it)");
   py::class_<PyChannel>(m, "ChannelFlow", "The channel with its solvent at temperature and the discs at rest")
       .def(py::init<const Params&, const std::vector<std::array<double, 2>>&>(), py::arg("parameters"),

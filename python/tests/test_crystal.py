@@ -84,3 +84,26 @@ def test_a_run_refuses_bad_values_and_stops_on_request(tmp_path):
         crystal.run(str(tmp_path / "a.h5"), tme=3.0)
     r = crystal.run(str(tmp_path / "s.h5"), callback=lambda step, t: t < 1.0, **RUN)
     assert r["stopped"] and "K" not in r and r["frame_time"][-1] == pytest.approx(1.0)
+
+
+def test_a_stopped_run_resumes_bit_for_bit(tmp_path):
+    """A run stopped by its callback continues with restart=True to the uninterrupted run's frames, K
+    and phonon numbers bit for bit (issue 30); a restart refuses another scene and a missing checkpoint."""
+    import h5py
+    full = crystal.run(str(tmp_path / "full.h5"), **RUN)
+    part = crystal.run(str(tmp_path / "part.h5"), callback=lambda step, t: t < 1.0, **RUN)
+    assert part["stopped"] and part["frame_time"][-1] == pytest.approx(1.0)
+    with pytest.raises(ValueError, match="restart: .*part.ckpt.h5 was written by another scene"):
+        crystal.run(str(tmp_path / "part.h5"), restart=True, **dict(RUN, seed=4))
+    with pytest.raises(ValueError, match="restart=True needs the checkpoint .*none.ckpt.h5"):
+        crystal.run(str(tmp_path / "none.h5"), restart=True, **RUN)
+    rest = crystal.run(str(tmp_path / "part.h5"), restart=True, **RUN)
+    assert not rest["stopped"] and rest["resumed_from_step"] == part["steps"] > 0
+    assert full["resumed_from_step"] == 0 and rest["steps"] == full["steps"]
+    for key in ("measured_frames", "u_d", "u_oil", "K", "theory_K", "spacing", "B", "beta", "phase_velocity"):
+        assert rest[key] == full[key], key
+    for key in ("frame_time", "u_d_series", "x", "y"):
+        assert np.array_equal(rest[key], full[key]), key
+    with h5py.File(tmp_path / "full.h5", "r") as a, h5py.File(tmp_path / "part.h5", "r") as b:
+        for name in ("particles/discs/position/value", "particles/discs/velocity/value", "observables/u_d/value"):
+            assert np.array_equal(a[name][()], b[name][()]), name

@@ -161,6 +161,10 @@ class CrystalRun {
     }
   }
 
+  // A checkpoint of the state now (a run stopped between checkpoints, e.g. by a caller's request,
+  // resumes from here); the state is the last frame's, which the watchdog checked.
+  void checkpoint_now() { checkpoint(); }
+
   // Writes the results file's XDMF sidecar at `xdmf` and closes it.
   void close(const std::string& xdmf) {
     h5_->write_xdmf(xdmf);
