@@ -15,7 +15,11 @@ compared over the same windows: γ̇t ∈ [8.4, 12] (all three c0; the last 30% 
 Only finished runs (a row in the driver's <file>_shear.csv) are used: a campaign stopped part way
 gives the Ca it finished.
 
-usage: capsule_shear_c0_table.py <shear_network dir> <shear_c0 run dir> <out stem>
+With --resolution the same for the resolution Π (scripts/reproduce_capsule shear_resolution): Ca = 0.3,
+the rule's c0, Π = 8 (shear_network's run) against Π = 10 and 12 (<run dir>/pi<Π>_shear*.csv, γ̇t = 12)
+over γ̇t ∈ [8.4, 12]; converged where the last refinement moves D_xy by less than 0.01.
+
+usage: capsule_shear_c0_table.py [--resolution] <shear_network dir> <run dir> <out stem>
        (writes <stem>.csv and <stem>.png)
 """
 import csv
@@ -54,7 +58,57 @@ WINDOWS = ((8.4, 12.0), (16.8, 24.0))
 RUN_END = {10: 24.0, 20: 24.0, 40: 12.0}
 
 
+def resolution_table(network_dir, run_dir, stem):
+    ca, ws, we = 0.3, 8.4, 12.0
+    runs = [(8, os.path.join(network_dir, "high_shear.csv"), os.path.join(network_dir, "high_shear_ca0.3_series.csv"))]
+    for pi in (10, 12):
+        table = os.path.join(run_dir, f"pi{pi}_shear.csv")
+        if ca in finished_runs(table):
+            runs.append((pi, table, os.path.join(run_dir, f"pi{pi}_shear_ca0.3_series.csv")))
+    rows = []
+    for pi, table, series in runs:
+        run = finished_runs(table)[ca]
+        if float(run["shear_time"]) < we:
+            continue
+        dm, std, se, drift, thm, n = window(series, ws, we)
+        rows.append({"resolution": pi, "ca_network": ca, "window_start": ws, "window_end": we, "taylor_deformation": dm,
+                     "taylor_deformation_std": std, "taylor_deformation_block_error": se, "drift_over_window": drift,
+                     "inclination_over_pi": thm, "window_samples": n, "particles": int(run["particles"]),
+                     "dt_gamma": float(run["dt_gamma"]), "max_density_deviation": float(run["max_density_deviation"]),
+                     "wall_seconds": float(run["wall_seconds"]),
+                     "delta_from_previous": dm - rows[-1]["taylor_deformation"] if rows else float("nan")})
+    with open(stem + ".csv", "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
+        w.writeheader()
+        for r in rows:
+            w.writerow({k: (f"{v:.6g}" if isinstance(v, float) else v) for k, v in r.items()})
+    for r in rows:
+        d = r["delta_from_previous"]
+        print(f"Pi {r['resolution']} ({r['particles']} particles, dt gamma {r['dt_gamma']:.3g}, {r['wall_seconds']:.0f} s): "
+              f"D_xy {r['taylor_deformation']:.4f} ± {r['taylor_deformation_block_error']:.4f} (blocks) over gamma t in "
+              f"[{ws:g}, {we:g}], drift {r['drift_over_window']:+.4f}, theta/pi {r['inclination_over_pi']:.4f}"
+              + ("" if d != d else f", change from the previous Pi {d:+.4f}"))
+    if len(rows) > 1:
+        d = rows[-1]["delta_from_previous"]
+        print(f"Pi {rows[-2]['resolution']} -> {rows[-1]['resolution']}: D_xy changes by {d:+.4f}: "
+              + ("converged (|change| < 0.01)" if abs(d) < 0.01 else "NOT converged (|change| >= 0.01)"))
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, ax = plt.subplots(figsize=(4.6, 3.4))
+    ax.errorbar([r["resolution"] for r in rows], [r["taylor_deformation"] for r in rows],
+                yerr=[r["taylor_deformation_block_error"] for r in rows], fmt="o-", capsize=3)
+    ax.set_xlabel("resolution Π = d/Δx")
+    ax.set_ylabel(f"D_xy, mean over γ̇t ∈ [{ws:g}, {we:g}]")
+    ax.set_title("capsule in simple shear, Ca = 0.3 (network G_s), c0 = 10V", fontsize=9)
+    fig.tight_layout()
+    fig.savefig(stem + ".png", dpi=120)
+
+
 def main():
+    if sys.argv[1] == "--resolution":
+        resolution_table(*sys.argv[2:5])
+        return
     network_dir, run_dir, stem = sys.argv[1:4]
     # (Ca, c0/V) -> (driver's table, series file); 10V is the rule's c0 (the shear_network runs).
     sources = {}
