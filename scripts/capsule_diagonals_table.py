@@ -17,20 +17,34 @@ import os
 import sys
 
 
-def window_stats(series_csv, fraction=0.3):
+def window_range(series_csv, start=None, end=None, fraction=0.3, blocks=4):
+    """D_xy of a series over γ̇t ∈ [start, end] (default: the last `fraction` of the run): mean, sample
+    std, drift (a least-squares line's change across the window), θ/π mean, sample count, and the
+    standard error from `blocks` consecutive blocks of the window (the samples are correlated)."""
     rows = list(csv.DictReader(open(series_csv)))
     t = [float(r["shear_time"]) for r in rows]
     d = [float(r["taylor_deformation"]) for r in rows]
     theta = [float(r["inclination_over_pi"]) for r in rows]
-    start = (1 - fraction) * t[-1]
-    w = [(a, b, c) for a, b, c in zip(t, d, theta) if a >= start - 1e-9]
+    start = (1 - fraction) * t[-1] if start is None else start
+    end = t[-1] if end is None else end
+    w = [(a, b, c) for a, b, c in zip(t, d, theta) if start - 1e-9 <= a <= end + 1e-9]
     n = len(w)
     tm = sum(a for a, _, _ in w) / n
     dm = sum(b for _, b, _ in w) / n
     thm = sum(c for _, _, c in w) / n
     d_std = (sum((b - dm) ** 2 for _, b, _ in w) / (n - 1)) ** 0.5
     slope = sum((a - tm) * (b - dm) for a, b, _ in w) / sum((a - tm) ** 2 for a, _, _ in w)
-    return dm, d_std, thm, slope * (w[-1][0] - w[0][0]), n
+    size = n // blocks
+    means = [sum(b for _, b, _ in w[k * size:(k + 1) * size]) / size for k in range(blocks)]
+    mb = sum(means) / blocks
+    block_error = (sum((m - mb) ** 2 for m in means) / (blocks - 1) / blocks) ** 0.5
+    return {"mean": dm, "std": d_std, "drift": slope * (w[-1][0] - w[0][0]), "theta": thm, "n": n,
+            "block_error": block_error}
+
+
+def window_stats(series_csv, fraction=0.3):
+    w = window_range(series_csv, fraction=fraction)
+    return w["mean"], w["std"], w["theta"], w["drift"], w["n"]
 
 
 def main():

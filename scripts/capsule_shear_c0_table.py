@@ -26,8 +26,7 @@ import csv
 import os
 import sys
 
-BLOCKS = 4
-
+from capsule_diagonals_table import window_range
 
 def finished_runs(table):
     """{Ca: driver row} of a driver's <file>_shear.csv (absent file: none)."""
@@ -38,20 +37,16 @@ def finished_runs(table):
 
 def window(series_csv, start, end):
     """Mean, sample std, block standard error, drift and θ/π mean of D_xy over γ̇t ∈ [start, end]."""
-    rows = list(csv.DictReader(open(series_csv)))
-    w = [(float(r["shear_time"]), float(r["taylor_deformation"]), float(r["inclination_over_pi"])) for r in rows]
-    w = [x for x in w if start - 1e-9 <= x[0] <= end + 1e-9]
-    n = len(w)
-    tm = sum(a for a, _, _ in w) / n
-    dm = sum(b for _, b, _ in w) / n
-    thm = sum(c for _, _, c in w) / n
-    std = (sum((b - dm) ** 2 for _, b, _ in w) / (n - 1)) ** 0.5
-    slope = sum((a - tm) * (b - dm) for a, b, _ in w) / sum((a - tm) ** 2 for a, _, _ in w)
-    size = n // BLOCKS
-    means = [sum(b for _, b, _ in w[k * size:(k + 1) * size]) / size for k in range(BLOCKS)]
-    mb = sum(means) / BLOCKS
-    se = (sum((m - mb) ** 2 for m in means) / (BLOCKS - 1) / BLOCKS) ** 0.5
-    return dm, std, se, slope * (w[-1][0] - w[0][0]), thm, n
+    w = window_range(series_csv, start, end)
+    return w["mean"], w["std"], w["block_error"], w["drift"], w["theta"], w["n"]
+
+
+def write_csv(stem, rows):
+    with open(stem + ".csv", "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
+        w.writeheader()
+        for r in rows:
+            w.writerow({k: (f"{v:.6g}" if isinstance(v, float) else v) for k, v in r.items()})
 
 
 WINDOWS = ((8.4, 12.0), (16.8, 24.0))
@@ -77,17 +72,30 @@ def resolution_table(network_dir, run_dir, stem):
                      "dt_gamma": float(run["dt_gamma"]), "max_density_deviation": float(run["max_density_deviation"]),
                      "wall_seconds": float(run["wall_seconds"]),
                      "delta_from_previous": dm - rows[-1]["taylor_deformation"] if rows else float("nan")})
-    with open(stem + ".csv", "w", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
-        w.writeheader()
-        for r in rows:
-            w.writerow({k: (f"{v:.6g}" if isinstance(v, float) else v) for k, v in r.items()})
+    write_csv(stem, rows)
     for r in rows:
         d = r["delta_from_previous"]
         print(f"Pi {r['resolution']} ({r['particles']} particles, dt gamma {r['dt_gamma']:.3g}, {r['wall_seconds']:.0f} s): "
               f"D_xy {r['taylor_deformation']:.4f} ± {r['taylor_deformation_block_error']:.4f} (blocks) over gamma t in "
               f"[{ws:g}, {we:g}], drift {r['drift_over_window']:+.4f}, theta/pi {r['inclination_over_pi']:.4f}"
               + ("" if d != d else f", change from the previous Pi {d:+.4f}"))
+    if len(rows) == 3:
+        # an error ∝ Π^-p through the three points: the ratio of the two increments fixes p, then the limit
+        d1, d2 = rows[1]["delta_from_previous"], rows[2]["delta_from_previous"]
+        pis = [r["resolution"] for r in rows]
+
+        def mismatch(p):
+            return (pis[0] ** -p - pis[1] ** -p) / (pis[1] ** -p - pis[2] ** -p) - d1 / d2
+
+        lo, hi = 0.1, 10.0
+        if d1 * d2 > 0 and mismatch(lo) * mismatch(hi) < 0:
+            for _ in range(100):
+                mid = 0.5 * (lo + hi)
+                lo, hi = (mid, hi) if mismatch(lo) * mismatch(mid) > 0 else (lo, mid)
+            p = 0.5 * (lo + hi)
+            c = d2 / (pis[1] ** -p - pis[2] ** -p)
+            print(f"error ~ Pi^-p through the three points: p = {p:.2f}, D_xy(Pi -> infinity) ~ "
+                  f"{rows[2]['taylor_deformation'] + c * pis[2] ** -p:.3f} (an estimate from three points)")
     if len(rows) > 1:
         d = rows[-1]["delta_from_previous"]
         print(f"Pi {rows[-2]['resolution']} -> {rows[-1]['resolution']}: D_xy changes by {d:+.4f}: "
@@ -138,11 +146,7 @@ def main():
         p = rows[k - 1] if k else None
         if p and (p["ca_network"], p["window_start"]) == (r["ca_network"], r["window_start"]):
             r["delta_from_previous_c0"] = r["taylor_deformation"] - p["taylor_deformation"]
-    with open(stem + ".csv", "w", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
-        w.writeheader()
-        for r in rows:
-            w.writerow({k: (f"{v:.6g}" if isinstance(v, float) else v) for k, v in r.items()})
+    write_csv(stem, rows)
     for r in rows:
         delta = r["delta_from_previous_c0"]
         print(f"Ca {r['ca_network']:g}, c0 {r['c0_over_V']}V, gamma t in [{r['window_start']:g}, {r['window_end']:g}] "

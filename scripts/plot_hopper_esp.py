@@ -40,6 +40,13 @@ def main(argv):
     for r in rows:
         print(f"{r['limit']:20s} E_sp {r['E_sp']:>7g} ({r['seeds']} seeds): k = {r['k']:.2f} ± {r['k_error']:.2f}, "
               f"C = {r['C']:.3f} ± {r['C_error']:.3f}, beta = {r['beta']:.2f} ± {r['beta_error']:.2f}")
+    for lam in ("0", "inf"):
+        sel = [r for r in rows if r["lambda"] == lam]
+        if sel:
+            c = [r["C"] for r in sel]
+            k = [r["k"] for r in sel]
+            print(f"{sel[0]['limit']:20s} over {len(sel)} E_sp: C {min(c):.3f}-{max(c):.3f}, mean {sum(c) / len(c):.3f}; "
+                  f"k {min(k):.2f}-{max(k):.2f}")
     q = [r for r in csv.DictReader(open(qw))]
     import matplotlib
     matplotlib.use("Agg")
