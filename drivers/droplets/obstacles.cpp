@@ -20,6 +20,10 @@
 // K_l/Γ defaults to 0.1, not the paper's 10⁻³: a held droplet's vertices slide along its interface
 // at the rate π² k_l/b∞ (docs/droplets.md, deviation 4), so at 10⁻³ E_k reaches the clog threshold
 // only after ~10⁴ t0 at Γ ≈ 1 and every replica would end right-censored within T.
+// --shape-dt TARGET (DP) lets each droplet halve its own time step while the area mode of its
+// current shape has ω Δt > TARGET (down to Δt0/4096) and double it back below TARGET/2, where a
+// fixed step would stop the run (scenes/droplets/droplet_scene.hpp, adapt_time_steps); each
+// replica's clock follows its own steps.
 // --obstacle-contacts edges (DP) makes the obstacles repel whole edges, not only vertices
 // (kernels/dp/edge_obstacle_repulsion.hpp): below K_l·N_v ≈ 1.2 an obstacle otherwise passes
 // between two vertices and through a floppy droplet (docs/droplets.md, finding 7).
@@ -128,6 +132,7 @@ void run(const Parameters& par, const cli::DriverApp& app, const std::vector<Swe
     }
   };
   SweepSteps steps;
+  int deepest_dt_level = 0;
   if (!sp && par.schedule == "sweep") {
     // Every (point, replica) of this rank's share in one refilled batch (run_sweep_batched).
     std::vector<ObstacleEnsembleParameters> scenes;
@@ -146,6 +151,7 @@ void run(const Parameters& par, const cli::DriverApp& app, const std::vector<Swe
                                                                 record, [&](long long s) { progress->update(s); });
       steps.steps = stats.steps;
       steps.replica_steps = stats.replica_steps;
+      deepest_dt_level = stats.deepest_dt_level;
     }
   } else {
   steps = run_sweep_points(
@@ -206,6 +212,8 @@ void run(const Parameters& par, const cli::DriverApp& app, const std::vector<Swe
     json["replica_time_early"] = cli::summary_number(totals.early);
     json["classification_disagreements"] = totals.disagreements;
   }
+  if (!sp && par.sweep.shape_dt_target > 0 && par.schedule == "sweep")
+    json["deepest_shape_dt_level"] = deepest_dt_level;  // of this run's replicas: Δt0/2^level the smallest step
   json["vertex_steps_per_second"] = cli::summary_number(wall > 0 ? double(vertex_steps) / wall : 0.0);
   json["decay_length"] = cli::Json::array();
   for (const PointSummary& s : summaries) json["decay_length"].push_back(cli::summary_number(s.lambda.lambda));
@@ -273,6 +281,11 @@ int main(int argc, char** argv) {
   app.add_real("--terminal-speed", par.sweep.terminal_speed, "terminal speed V_t (eq. 15)", 0.0, 10.0, Bounds::left_open);
   app.add_real("--dt", par.sweep.dt, "time step Δt/t0 (0: 10⁻³ or the stability limit if smaller)", 0.0, 0.01);
   app.add_flag(mesoflow::cli::force_dt_flag, par.sweep.force_dt, mesoflow::cli::force_dt_help);
+  app.add_real("--shape-dt", par.sweep.shape_dt_target,
+               "DP: shape-following steps: each droplet halves its own dt while its area mode has omega dt above "
+               "this target and doubles it back (up to its initial dt) below half of it (0: off, a fixed dt that "
+               "stops the run when the shape outgrows it; the progress line's total assumes the initial steps)",
+               0.0, 1.8);
   app.add_int("--relax-iterations", par.sweep.relax_iterations, "FIRE iterations of the initial relaxation", 0, 10000000);
   app.add_int("--seed", par.seed, "base seed of the replicas' obstacle arrays", 0, 4294967295LL);
   app.add_int("--threads", par.threads, "host threads (0: OMP_NUM_THREADS or all cores)", 0, 4096);
@@ -282,6 +295,8 @@ int main(int argc, char** argv) {
     par.sweep.edge_contacts = par.obstacle_contacts == "edges";
     if (par.sweep.soft_particles && par.sweep.edge_contacts)
       throw std::invalid_argument("--obstacle-contacts: edges needs --model dp (an SP droplet has no edges)");
+    if (par.sweep.soft_particles && par.sweep.shape_dt_target > 0)
+      throw std::invalid_argument("--shape-dt: needs --model dp (an SP droplet has no shape)");
     par.sweep.clog_test = mesoflow::droplets::clog_test_from_name(par.clog_test);
     const auto strengths = par.sweep.soft_particles
                                ? mesoflow::cli::parse_real_list("--sp-wall-energy", par.sp_wall_energy, 0.001, 1e4)

@@ -34,7 +34,7 @@ _ORIFICE_KEYS = ("width", "start_h", "end_h", "max_time", "sample_interval", "cl
 _EARLY_KEYS = {"clog_sample_interval": "sample_interval", "clog_window": "window", "clog_tolerance": "tolerance",
                "clog_max_scatter": "max_scatter", "clog_min_rate": "min_rate"}
 _SWEEP_KEYS = ("soft_particles", "vertices", "area_stiffness", "perimeter_ratio", "dp_wall_energy", "edge_contacts",
-               "near_wall_drag", "terminal_speed", "dt", "force_dt", "box_length", "obstacle_diameter",
+               "near_wall_drag", "terminal_speed", "dt", "force_dt", "shape_dt_target", "box_length", "obstacle_diameter",
                "obstacle_fraction", "time_limit", "clog_threshold", "relax_iterations", "batch")
 
 

@@ -166,6 +166,7 @@ void bind_droplets(py::module_& top) {
       .def_readwrite("terminal_speed", &droplets::ObstacleSweep::terminal_speed)
       .def_readwrite("dt", &droplets::ObstacleSweep::dt)
       .def_readwrite("force_dt", &droplets::ObstacleSweep::force_dt)
+      .def_readwrite("shape_dt_target", &droplets::ObstacleSweep::shape_dt_target)
       .def_readwrite("box_length", &droplets::ObstacleSweep::box_length)
       .def_readwrite("obstacle_diameter", &droplets::ObstacleSweep::obstacle_diameter)
       .def_readwrite("obstacle_fraction", &droplets::ObstacleSweep::obstacle_fraction)

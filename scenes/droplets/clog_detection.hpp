@@ -255,6 +255,8 @@ class ClogDetector {
           for (int c = 0; c < 5; ++c) fit(b, c) = 0;
           for (int c = 0; c < 6; ++c) early_record(b, c) = 0;
           for (int c = 0; c < 5; ++c) lim(b, c) = values(k, c);
+          lim(b, 5) = 0;  // the clock's time and steps at the last change of the replica's step
+          lim(b, 6) = 0;
           decision(b) = early_decision::none;
           clock(b, 0) = 0;  // steps run
           clock(b, 1) = 0;  // ring samples taken
@@ -263,9 +265,21 @@ class ClogDetector {
         });
   }
 
+  // Replicas whose step changes during a run (DropletScene's shape-following step): observe() reads
+  // replica b's current step from time_steps(b). A change found at an observation is taken to have
+  // happened at the previous one (the scene changes steps only between observations), and the clock
+  // continues from there: t = t_c + (steps − steps_c)·Δt_new, the last step recomputed from the time
+  // left. Without changes t = steps·Δt exactly, as without following.
+  void follow_time_steps(const Kokkos::View<double*, ExecSpace>& time_steps) {
+    if (time_steps.extent(0) != std::size_t(replicas()))
+      throw std::invalid_argument("clog detection: " + std::to_string(time_steps.extent(0)) + " time steps for " +
+                                  std::to_string(replicas()) + " replicas");
+    time_steps_ = time_steps;
+  }
+
   // Every replica still running has advanced steps_per_observation steps of its own Δt: updates its
-  // clock, tracking and clog tests at its time t = steps·Δt, and ends it when it clogs or reaches
-  // its time limit.
+  // clock, tracking and clog tests at its time t (steps·Δt, or as follow_time_steps says), and ends
+  // it when it clogs or reaches its time limit.
   template <class ReplicaState>
   void observe(const ReplicaState& state) {
     const auto status = status_;
@@ -286,12 +300,13 @@ class ClogDetector {
     const double tolerance = early_.tolerance, max_scatter = early_.max_scatter, min_rate = early_.min_rate;
     const double interval = early_.sample_interval;
     const long long per = steps_per_observation_;
+    if (time_steps_.extent(0) > 0) follow_steps();
     mesoflow::launch::parallel_for(
         "mesoflow::clog_detection::observe", Kokkos::RangePolicy<ExecSpace>(0, replicas()), KOKKOS_LAMBDA(int b) {
           if (status(b) != replica_status::running) return;
           const long long steps = clock(b, 0) + per;
           clock(b, 0) = steps;
-          const double t = double(steps) * lim(b, 3);
+          const double t = lim(b, 5) + double(steps - (long long)lim(b, 6)) * lim(b, 3);
           const bool at_limit = double(steps) >= lim(b, 4);
           const double e_t = lim(b, 0), v_t = lim(b, 1), half = 0.5 * lim(b, 2);
           const bool sample = testing && t + 1e-9 >= next(b);
@@ -442,6 +457,29 @@ class ClogDetector {
   int steps_per_observation() const { return steps_per_observation_; }
 
  private:
+  // The clocks of the running replicas whose step has changed since the last observation continue
+  // from it at the new step: t_c, steps_c and the last step (T reached on the replica's own clock,
+  // rounded up to whole observations) from the time left.
+  void follow_steps() {
+    const auto status = status_;
+    const auto lim = limits_;
+    const auto clock = clock_;
+    const auto time_steps = time_steps_;
+    const double per = double(steps_per_observation_);
+    mesoflow::launch::parallel_for(
+        "mesoflow::clog_detection::follow_steps", Kokkos::RangePolicy<ExecSpace>(0, replicas()), KOKKOS_LAMBDA(int b) {
+          if (status(b) != replica_status::running || time_steps(b) == lim(b, 3)) return;
+          const long long previous = clock(b, 0);
+          const double t_change = lim(b, 5) + double(previous - (long long)lim(b, 6)) * lim(b, 3);
+          const double dt_new = time_steps(b), left = lim(b, 2) - t_change;
+          lim(b, 5) = t_change;
+          lim(b, 6) = double(previous);
+          lim(b, 3) = dt_new;
+          const double left_steps = left > 0 ? -kmath::floor(1e-9 - left / dt_new) : 0.0;  // ⌈left/Δt − 10⁻⁹⌉
+          lim(b, 4) = double(previous) - kmath::floor(-left_steps / per) * per;            // whole observations
+        });
+  }
+
   Kokkos::View<int*, ExecSpace> status_;
   Kokkos::View<double* [2], ExecSpace> origin_;
   Kokkos::View<double* [4], ExecSpace> end_;  // r, t, x_com, y_com at the end
@@ -449,8 +487,10 @@ class ClogDetector {
   Kokkos::View<int*, ExecSpace> decision_;    // early_decision of each replica
   Kokkos::View<double* [6], ExecSpace> early_record_;  // r, t, k, crossing time, x_com, y_com at the early decision
   Kokkos::View<double** [4], ExecSpace> ring_;  // (replica, slot): t, ln(E_k/E_t), x_com, y_com
-  Kokkos::View<double* [5], ExecSpace> limits_;  // E_t, v_t, T, Δt, the last step
+  // E_t, v_t, T, Δt, the last step, and the time and steps at the last change of Δt (follow_time_steps)
+  Kokkos::View<double* [7], ExecSpace> limits_;
   Kokkos::View<long long* [2], ExecSpace> clock_;  // steps run, ring samples taken
+  Kokkos::View<double*, ExecSpace> time_steps_;    // each replica's current step; empty: fixed (limits_ Δt)
   Kokkos::View<double*, ExecSpace> next_sample_;   // time of the next ring sample
   double threshold_;
   Vec<2, double> gravity_;

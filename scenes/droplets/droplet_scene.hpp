@@ -73,6 +73,11 @@ struct DropletParameters {
   double dt = 0;                  // Δt/t0; 0: the paper's 10⁻³, or the stability limit if smaller
   bool drag = true;               // background-fluid drag (eqs. 5–6); off only to check energy conservation
   bool force_dt = false;          // run a dt above the stability limit (a warning instead of an error)
+  // A time step that follows each droplet's shape (issue 25, the wrapping branch at K_a = 10⁴): 0
+  // (off) keeps Δt fixed and stops a run whose shape outgrows it (check_shape_time_step); a target
+  // τ in (0, 1.8] lets every droplet halve its own Δt while its area mode has ω_area Δt > τ and
+  // double it back, up to its initial Δt, while ω_area · 2Δt ≤ τ/2 (DropletScene::adapt_time_steps).
+  double shape_dt_target = 0;
 
   // Throws std::invalid_argument naming the first parameter outside its range.
   void validate() const {
@@ -96,6 +101,8 @@ struct DropletParameters {
     require(std::isfinite(drag_floor) && drag_floor > 0 && drag_floor <= 1, "near-wall drag floor d_min/σ",
             "in (0, 1]", drag_floor);
     require(std::isfinite(dt) && dt >= 0, "time step dt", "finite and >= 0 (0: automatic)", dt);
+    require(std::isfinite(shape_dt_target) && shape_dt_target >= 0 && shape_dt_target <= 1.8,
+            "shape time-step target omega_area dt", "0 (off) or in (0, 1.8]", shape_dt_target);
     require(gravity_angle >= -360 && gravity_angle <= 360, "gravity angle", "in [-360, 360] degrees", gravity_angle);
   }
   double gravity_angle = -90.0;   // direction of g in degrees from +x (−90: along −y)
@@ -208,7 +215,8 @@ class DropletScene {
     }
     const double angle = par_.gravity_angle * dp::pi / 180.0;
     gravity_ = Vec<2, Real>{{Real(std::cos(angle)), Real(std::sin(angle))}};
-    mixed_ = mixed;
+    // A shape-following step is per droplet: the scene runs the per-droplet machinery.
+    mixed_ = mixed || par_.shape_dt_target > 0;
     body_par_ = per_body;
     if (mixed_) upload_body_coefficients();
     declare_terms();
@@ -246,12 +254,87 @@ class DropletScene {
   void compute_step_forces() { step_forces(p_.v); }
 
   // One modified velocity-Verlet step (kernels/common/velocity_verlet.hpp) with gravity and drag.
+  // With a shape-following step (par.shape_dt_target > 0) the droplets' steps are set before the
+  // step, every shape_check_interval steps (adapt_time_steps), so that they change only between
+  // observations of an ensemble's clocks (ClogDetector::follow_time_steps).
   void step() {
+    if (shape_following() && steps_ % shape_check_interval == 0) adapt_time_steps();
     vv_.first_half(p_);
     step_forces(vv_.velocity_for_forces(p_));
     vv_.second_half(p_);
     ++steps_;
-    if (steps_ % shape_check_interval == 0) check_shape_time_step();
+    if (!shape_following() && steps_ % shape_check_interval == 0) check_shape_time_step();
+  }
+
+  bool shape_following() const { return par_.shape_dt_target > 0; }
+
+  // The shape-following step (par.shape_dt_target = τ > 0): droplet b runs at Δt_b = Δt_b0 / 2^k_b,
+  // Δt_b0 its initial step (resolve_time_step) and k_b in [0, max_time_step_level]. From the area
+  // mode of its current shape, ω_b = √(k_a max(Σ|∇a|², P l0)/m) (kernels/dp/shape_stiffness.hpp,
+  // stability.hpp), k_b rises while ω_b Δt_b > τ and falls while ω_b · 2Δt_b ≤ τ/2 (the hysteresis
+  // keeps a droplet at the edge from flipping every check). Every droplet adapts on its own, so a
+  // replica's trajectory does not depend on its batch. Throws ShapeTimeStepExceeded when a droplet
+  // at the deepest level still has ω_b Δt_b > 1.8, as check_shape_time_step does at a fixed step.
+  // Device work plus one reduction read back, every shape_check_interval steps.
+  void adapt_time_steps() {
+    const dp::StiffnessInputs s = droplet_stiffness(par_, has_surfaces());
+    const double k_over_m = s.area_stiffness / s.vertex_mass, floor = s.perimeter * s.edge_length;
+    const double target = par_.shape_dt_target;
+    const int deepest = max_time_step_level;
+    const auto offset = polygons_.offset;
+    const auto x = p_.x;
+    const auto dt0 = body_dt0_dev_, dt_now = body_dt_dev_;
+    const auto level = dt_level_, reached = deepest_level_;
+    double worst = 0;
+    mesoflow::launch::parallel_reduce(
+        "mesoflow::droplet_scene::adapt_time_steps", Kokkos::RangePolicy<ExecSpace>(0, polygons_.num_bodies()),
+        KOKKOS_LAMBDA(const int b, double& largest) {
+          const int begin = offset(b), n = offset(b + 1) - begin;
+          double sum = 0;
+          for (int i = begin; i < begin + n; ++i) {
+            const int next = dp::next_vertex(i, 1, begin, n), prev = dp::prev_vertex(i, 1, begin, n);
+            const double dx = double(x(next, 0)) - double(x(prev, 0));
+            const double dy = double(x(next, 1)) - double(x(prev, 1));
+            sum += 0.25 * (dx * dx + dy * dy);
+          }
+          const double omega = kmath::sqrt(k_over_m * (sum > floor ? sum : floor));
+          int k = level(b);
+          while (k < deepest && omega * (dt0(b) / double(1 << k)) > target) ++k;
+          while (k > 0 && omega * (dt0(b) / double(1 << (k - 1))) <= 0.5 * target) --k;
+          level(b) = k;
+          if (k > reached(b)) reached(b) = k;
+          dt_now(b) = dt0(b) / double(1 << k);
+          const double omega_dt = omega * dt_now(b);
+          if (omega_dt > largest) largest = omega_dt;
+        },
+        Kokkos::Max<double>(worst));
+    apply_time_step_levels();
+    if (!(worst > area_mode_tolerance)) return;
+    std::ostringstream m;
+    m.precision(4);
+    m << "droplet scene: at step " << steps_ << " a droplet's edges have become so unequal that its area elasticity "
+      << "K_a mode has omega dt = " << worst << " > " << area_mode_tolerance << " at its smallest shape-following step "
+      << "(initial dt / 2^" << max_time_step_level << "); the run stopped before the instability (lower K_a or "
+      << "raise K_l)";
+    throw ShapeTimeStepExceeded(m.str());
+  }
+
+  // The current step of every droplet (device; with a shape-following step the ensembles' clocks
+  // read it, ClogDetector::follow_time_steps). Empty unless the batch is mixed.
+  const Kokkos::View<double*, ExecSpace>& body_time_steps() const { return body_dt_dev_; }
+
+  // The deepest level k (Δt = Δt0/2^k) any droplet of this scene has reached (host reduction).
+  int deepest_time_step_level() const {
+    if (!shape_following()) return 0;
+    const auto reached = deepest_level_;
+    int out = 0;
+    mesoflow::launch::parallel_reduce(
+        "mesoflow::droplet_scene::deepest_level", Kokkos::RangePolicy<ExecSpace>(0, polygons_.num_bodies()),
+        KOKKOS_LAMBDA(const int b, int& m) {
+          if (reached(b) > m) m = reached(b);
+        },
+        Kokkos::Max<int>(out));
+    return out;
   }
 
   // The stability limit of the droplets' current shape (the static estimate, or stiffer where
@@ -393,10 +476,20 @@ class DropletScene {
   const dp::Polygons<Real, ExecSpace>& polygons() const { return polygons_; }
   const DropletParameters& parameters() const { return par_; }
   long long steps() const { return steps_; }
-  double time() const { return double(steps_) * dt_; }
+  // steps·Δt; with shape-following steps each droplet keeps its own clock (ClogDetector::follow_time_steps).
+  double time() const {
+    if (shape_following())
+      throw std::logic_error("droplet scene: time() with shape-following steps (each droplet has its own clock)");
+    return double(steps_) * dt_;
+  }
   double dt() const { return dt_; }
   // Droplet b's time step (the scene's dt() unless the batch is mixed).
-  double dt(int b) const { return mixed_ ? body_dt_.at(std::size_t(b)) : dt_; }
+  double dt(int b) const {
+    if (!mixed_) return dt_;
+    if (!shape_following()) return body_dt_.at(std::size_t(b));
+    if (b < 0 || b >= polygons_.num_bodies()) throw std::out_of_range("droplet scene: no droplet " + std::to_string(b));
+    return Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), body_dt_dev_)(b);  // setup and refills only
+  }
   bool mixed() const { return mixed_; }
   const DropletParameters& parameters(int b) const { return body_par_.at(std::size_t(b)); }
 
@@ -411,6 +504,11 @@ class DropletScene {
     par.validate();
     check_common_fields(par_, par);
     body_par_[std::size_t(b)] = par;
+    if (shape_following()) {  // the new droplet starts at its initial step
+      const auto level = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), dt_level_);
+      level(b) = 0;
+      Kokkos::deep_copy(dt_level_, level);
+    }
     upload_body_coefficients();
     place_droplet(b, vertices);
     if (candidates_) candidates_->reassign(b, array);
@@ -443,6 +541,7 @@ class DropletScene {
   struct DropletState {
     std::vector<double> x, v, f;
     std::array<double, 3> reference{};
+    int dt_level = 0, deepest_dt_level = 0;  // shape-following step: its level now and the deepest reached
   };
   std::vector<DropletState> export_droplets() const {
     const auto x = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), p_.x);
@@ -451,6 +550,14 @@ class DropletScene {
     std::vector<std::array<double, 3>> disks;
     if (candidates_) disks = candidates_->references();
     std::vector<DropletState> out(std::size_t(polygons_.num_bodies()));
+    if (shape_following()) {
+      const auto level = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), dt_level_);
+      const auto reached = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), deepest_level_);
+      for (int b = 0; b < polygons_.num_bodies(); ++b) {
+        out[std::size_t(b)].dt_level = level(b);
+        out[std::size_t(b)].deepest_dt_level = reached(b);
+      }
+    }
     for (int b = 0; b < polygons_.num_bodies(); ++b) {
       DropletState& s = out[std::size_t(b)];
       for (int i = polygons_.first_vertex(b); i < polygons_.first_vertex(b) + polygons_.num_vertices(b); ++i)
@@ -490,6 +597,17 @@ class DropletScene {
     Kokkos::deep_copy(p_.v, v);
     Kokkos::deep_copy(p_.f, f);
     if (candidates_) candidates_->build_at(disks, p_.x);
+    if (shape_following()) {
+      const auto level = Kokkos::create_mirror_view(dt_level_);
+      const auto reached = Kokkos::create_mirror_view(deepest_level_);
+      for (int b = 0; b < polygons_.num_bodies(); ++b) {
+        level(b) = states[std::size_t(b)].dt_level;
+        reached(b) = states[std::size_t(b)].deepest_dt_level;
+      }
+      Kokkos::deep_copy(dt_level_, level);
+      Kokkos::deep_copy(deepest_level_, reached);
+      apply_time_step_levels();
+    }
     steps_ = steps;
   }
   double far_drag() const { return b_inf_; }
@@ -655,6 +773,7 @@ class DropletScene {
     same(a.drag_floor == b.drag_floor, "the near-wall drag floor");
     same(a.drag == b.drag, "the drag switch");
     same(a.gravity_angle == b.gravity_angle, "the gravity angle");
+    same(a.shape_dt_target == b.shape_dt_target, "the shape time-step target");
   }
   static int check_per_body(const std::vector<DropletParameters>& per_body, std::size_t droplets) {
     if (droplets == 0 || per_body.empty()) throw std::invalid_argument("droplet scene: no droplets");
@@ -704,6 +823,32 @@ class DropletScene {
     Kokkos::deep_copy(particle_dt_, pdt);
     Kokkos::deep_copy(dt_weight_, weight);
     vv_.set_particle_time_steps(particle_dt_);
+    if (shape_following()) {  // the initial steps, the levels kept (a refill resets its own first)
+      if (dt_level_.extent(0) != std::size_t(nb)) {
+        dt_level_ = Kokkos::View<int*, ExecSpace>("mesoflow::droplet_scene::dt_level", std::size_t(nb));
+        deepest_level_ = Kokkos::View<int*, ExecSpace>("mesoflow::droplet_scene::deepest_dt_level", std::size_t(nb));
+        body_dt_dev_ = Kokkos::View<double*, ExecSpace>("mesoflow::droplet_scene::body_dt", std::size_t(nb));
+      }
+      body_dt0_dev_ = Kokkos::View<double*, ExecSpace>("mesoflow::droplet_scene::body_dt0", std::size_t(nb));
+      const auto dt0 = Kokkos::create_mirror_view(body_dt0_dev_);
+      for (int b = 0; b < nb; ++b) dt0(b) = body_dt_[std::size_t(b)];
+      Kokkos::deep_copy(body_dt0_dev_, dt0);
+      apply_time_step_levels();
+    }
+  }
+
+  // Δt_b = Δt_b0 / 2^k_b for every droplet, and every vertex's step from its droplet's.
+  void apply_time_step_levels() {
+    const auto dt0 = body_dt0_dev_, dt_now = body_dt_dev_;
+    const auto level = dt_level_;
+    mesoflow::launch::parallel_for(
+        "mesoflow::droplet_scene::body_time_steps", Kokkos::RangePolicy<ExecSpace>(0, polygons_.num_bodies()),
+        KOKKOS_LAMBDA(const int b) { dt_now(b) = dt0(b) / double(1 << level(b)); });
+    const auto pdt = particle_dt_;
+    const auto body = polygons_.body;
+    mesoflow::launch::parallel_for(
+        "mesoflow::droplet_scene::particle_time_steps", Kokkos::RangePolicy<ExecSpace>(0, polygons_.num_vertices()),
+        KOKKOS_LAMBDA(const int i) { pdt(i) = Real(dt_now(body(i))); });
   }
 
   DropletParameters par_;  // droplet 0's (every shared field is everyone's)
@@ -729,10 +874,17 @@ class DropletScene {
   Kokkos::View<dp::NearWallDrag<Real>*, ExecSpace> drag_terms_;
   Kokkos::View<Real*, ExecSpace> particle_dt_;
   Kokkos::View<double*, ExecSpace> dt_weight_;
+  // Shape-following steps (par.shape_dt_target > 0): each droplet's initial and current step, its
+  // level k (Δt = Δt0/2^k) and the deepest level it has reached.
+  Kokkos::View<double*, ExecSpace> body_dt0_dev_, body_dt_dev_;
+  Kokkos::View<int*, ExecSpace> dt_level_, deepest_level_;
   typename particles_type::vector_view scratch_forces_;
   static constexpr double candidate_skin = 0.5;  // σ
   static constexpr long long shape_check_interval = 100;
   static constexpr double area_mode_tolerance = 1.8;
+
+ public:
+  static constexpr int max_time_step_level = 12;  // the smallest shape-following step: Δt0/4096
 };
 
 }  // namespace mesoflow::droplets

@@ -150,17 +150,19 @@ Box<2, Real> periodic_square(double length) {
   return Box<2, Real>(lo, len, periodic);
 }
 
-// Steps `scene` until every replica has finished, reporting each as it does.
-template <class Scene, class StateOf>
+// Steps `scene` until every replica has finished, reporting each as it does; prepare(detector)
+// once the clocks have started (a DP scene with shape-following steps lets them follow).
+template <class Scene, class StateOf, class Prepare>
 void run_until_finished(const ObstacleEnsembleParameters& par, Scene& scene, int replicas, StateOf&& state_of,
                         const std::function<void(int, const ReplicaRecord&)>& on_finished,
-                        const std::function<void(long long)>& on_steps) {
+                        const std::function<void(long long)>& on_steps, Prepare&& prepare) {
   const double angle = par.gravity_angle() * dp::pi / 180.0;
   const double terminal_energy = 0.5 * droplet_mass * par.terminal_speed() * par.terminal_speed();
   ClogDetector<typename Scene::particles_type::execution_space> detector(
       replicas, par.clog_threshold, Vec<2, double>{{std::cos(angle), std::sin(angle)}}, par.clog_test, par.early,
       sample_steps);
   detector.start(ReplicaLimits{terminal_energy, par.terminal_speed(), par.time_limit, scene.dt()}, state_of());
+  prepare(detector);
   const long long limit_steps =
       (static_cast<long long>(std::ceil(par.time_limit / scene.dt() - 1e-9)) + sample_steps - 1) / sample_steps *
       sample_steps;
@@ -224,7 +226,9 @@ void run_obstacle_batch(const ObstacleEnsembleParameters& par, const std::vector
       const auto& s = scene.update_body_state();
       return DeformableReplicaState<Real, ExecSpace>{s.com, s.kinetic_energy};
     };
-    run_until_finished(par, scene, n, state_of, on_finished, on_steps);
+    run_until_finished(par, scene, n, state_of, on_finished, on_steps, [&scene](auto& detector) {
+      if (scene.shape_following()) detector.follow_time_steps(scene.body_time_steps());
+    });
   } else {
     SoftParticleScene<Real, ExecSpace> scene(par.soft, batch_surfaces, std::vector<Vec<2, double>>(std::size_t(n), centre),
                                              which);
@@ -240,7 +244,7 @@ void run_obstacle_batch(const ObstacleEnsembleParameters& par, const std::vector
       const auto& p = scene.particles();
       return SoftReplicaState<Real, ExecSpace>{p.x, p.v, p.mass};
     };
-    run_until_finished(par, scene, n, state_of, on_finished, on_steps);
+    run_until_finished(par, scene, n, state_of, on_finished, on_steps, [](auto&) {});
   }
 }
 
@@ -261,6 +265,7 @@ struct ObstacleSweep {
   double terminal_speed = 0.08;  // V_t (eq. 15)
   double dt = 0.0;               // Δt/t0; 0: 10⁻³ or the stability limit if smaller
   bool force_dt = false;
+  double shape_dt_target = 0.0;  // DP: shape-following steps (DropletParameters::shape_dt_target; 0: off)
   double box_length = 40.0;
   double obstacle_diameter = 0.3;
   // φ, calibrated once (issue 25 item 1, scripts/calibrate_obstacle_fraction): λ = 24σ at Fig. 13(b)'s
@@ -287,6 +292,7 @@ struct ObstacleSweep {
     ens.droplet.terminal_speed = terminal_speed;
     ens.droplet.dt = dt;
     ens.droplet.force_dt = force_dt;
+    ens.droplet.shape_dt_target = shape_dt_target;
     ens.soft.wall_energy = soft_particles ? strength : ens.soft.wall_energy;
     ens.soft.terminal_speed = terminal_speed;
     ens.soft.dt = dt;
@@ -395,6 +401,7 @@ namespace mesoflow::droplets {
 // hundred steps. Returns the steps run and the replica-steps run (slots × steps, summed).
 struct BatchedSweepStats {
   long long steps = 0, replica_steps = 0, refills = 0, compactions = 0;
+  int deepest_dt_level = 0;  // shape-following steps: the smallest step used was Δt0/2^this
 };
 template <class Real = double, class ExecSpace = Kokkos::DefaultExecutionSpace, class OnFinished, class OnSteps>
 BatchedSweepStats run_sweep_batched(std::vector<ObstacleEnsembleParameters> points,
@@ -490,6 +497,10 @@ BatchedSweepStats run_sweep_batched(std::vector<ObstacleEnsembleParameters> poin
     }
     detector->restart(all, limits, state_of());
   }
+  const auto follow = [&] {
+    if (scene->shape_following()) detector->follow_time_steps(scene->body_time_steps());
+  };
+  follow();
   auto watch = watchdog::watch_if_possible(*scene, watchdog_interval);
   int live = n0;
   long long step = 0;
@@ -547,16 +558,19 @@ BatchedSweepStats run_sweep_batched(std::vector<ObstacleEnsembleParameters> poin
       std::vector<typename Scene::DropletState> kept_states;
       for (const int k : keep) kept_states.push_back(states[std::size_t(k)]);
       const long long scene_steps = scene->steps();
+      stats.deepest_dt_level = std::max(stats.deepest_dt_level, scene->deepest_time_step_level());
       watch.reset();
       scene = std::make_unique<Scene>(kept_par, surfaces, std::vector<Vec<2, double>>(keep.size(), centre), kept_array);
       scene->import_droplets(kept_states, scene_steps);
       detector = std::make_unique<ClogDetector<ExecSpace>>(detector->compacted(keep));
+      follow();
       watch = watchdog::watch_if_possible(*scene, watchdog_interval);
       slot_task = kept_task;
       ++stats.compactions;
     }
   }
   stats.steps = step;
+  stats.deepest_dt_level = std::max(stats.deepest_dt_level, scene->deepest_time_step_level());
   return stats;
 }
 

@@ -41,6 +41,9 @@ struct OrificeScene {
         throw std::invalid_argument(std::string("orifice scene: ") + name + " must be " + range + ", got " +
                                     std::to_string(value));
     };
+    require(droplet.shape_dt_target == 0, "shape time-step target",
+            "0 in the orifice (shape-following steps are for the obstacle ensembles, whose clocks follow them)",
+            droplet.shape_dt_target);
     require(std::isfinite(width) && width > 0 && width <= 10, "orifice width w", "in (0, 10]", width);
     require(std::isfinite(start_h) && start_h <= -1.0, "start height start_h", "<= -1 (above the funnel)", start_h);
     require(std::isfinite(end_h) && end_h > 0 && end_h <= 100, "end height end_h", "in (0, 100]", end_h);
