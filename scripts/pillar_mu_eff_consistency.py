@@ -2,7 +2,7 @@
 """pillar_mu_eff_consistency.py — why the Brinkman profile fit's μ_eff lies above the flux's (eq. 7) in the
 walls study (issue 28, docs/mdpd.md "Pillar lattices between walls over ε").
 
-    scripts/pillar_mu_eff_consistency.py WALLS3D.csv SEED_SPREAD.csv S11_3D.json OUT_STEM
+    scripts/pillar_mu_eff_consistency.py WALLS3D.csv SEED_SPREAD.csv S11_3D.json OUT_STEM [EXACT_TABLE.csv]
 
 For every run of WALLS3D.csv (scripts/summarize_pillar_walls.py) whose fit is interior:
 - flux_ratio: the fitted profile's mean, B_fit g(α_fit) with g(α) = 1 − tanh(αH/2)/(αH/2), over the
@@ -16,6 +16,10 @@ For every run of WALLS3D.csv (scripts/summarize_pillar_walls.py) whose fit is in
 Then the mean B_fit/B over ε ≤ 0.8 against the 3D-periodic over 2D κ_p of Fig. S11 at ε = 0.7
 (S11_3D.json, the 3D periodic run, over the mean of the SEED_SPREAD.csv runs with its box: 4 × 2 cells,
 scripts/pillar_seed_spread.py), and the means per lattice at ε ≤ 0.8.
+With EXACT_TABLE.csv (the Sangani–Acrivos exact κ/d² of the square lattice, sangani_acrivos_table.csv):
+the pillar radius changes those κ_p offsets amount to. At fixed cell, κ = f(ε) d² with ε = 1 − πR²/L²,
+so d ln κ/d ln R = 2 − 2(1 − ε) d ln f/dε (d ln f/dε from the table's neighbours of ε, a central
+difference of ln f), and an offset κ/κ_ref = r is a radius change δR/R = ln r / (d ln κ/d ln R).
 Writes OUT_STEM.csv and prints the summary.
 """
 import csv
@@ -51,10 +55,10 @@ def sensitivity(kappa_eff, kappa_p, h):
 
 
 def main(argv):
-    if len(argv) != 5:
+    if len(argv) not in (5, 6):
         print(__doc__)
         return 2
-    walls, spread, s11_3d, stem = argv[1:]
+    walls, spread, s11_3d, stem = argv[1:5]
     out = []
     for r in csv.DictReader(open(walls)):
         if r["alpha_at_bound"] == "True" or not r["alpha"]:
@@ -108,6 +112,28 @@ def main(argv):
     err = math.hypot(s2 / math.sqrt(len(two_d)) / m2, s2 / m2) * k3 / m2
     print(f"Fig. S11 at eps = {d3['porosity']:g}: 3D periodic kappa_p over the mean of {len(two_d)} 2D seeds of its cell "
           f"= {k3 / m2:.3f} ± {err:.3f} (the 2D seed spread for the 3D run too)")
+    if len(argv) == 6:
+        table = sorted((float(r["porosity"]), float(r["kappa_over_d2"])) for r in csv.DictReader(open(argv[5])))
+        eps = d3["porosity"]
+        i = min(range(1, len(table) - 1), key=lambda j: abs(table[j][0] - eps))
+        if abs(table[i][0] - eps) > 1e-9:
+            raise SystemExit(f"pillar_mu_eff_consistency: eps = {eps} is not a row of {argv[5]}")
+        (e0, f0), (_, f1), (e2, f2) = table[i - 1], table[i], table[i + 1]
+        dlnf = (math.log(f2) - math.log(f0)) / (e2 - e0)
+        slope = 2 - 2 * (1 - eps) * dlnf
+        radius = d3["diameter"] / 2
+        se2 = s2 / math.sqrt(len(two_d)) / m2  # relative standard error of the 2D mean
+
+        def line(what, ratio, rel_err):
+            dr = math.log(ratio) / slope
+            dr_err = rel_err / abs(slope)
+            return (f"{what}: kappa ratio {ratio:.3f} ± {rel_err * ratio:.3f} = a radius change dR/R = "
+                    f"{100 * dr:+.1f}% ± {100 * dr_err:.1f}% ({dr * radius:+.3f} ± {dr_err * radius:.3f} r_c)")
+        print(f"effective radius at eps = {eps:g} (R = {radius:.3f} r_c, d ln kappa/d ln R = {slope:.2f}, "
+              f"d ln f/d eps = {dlnf:.2f} from the exact table):")
+        print("  " + line("2D mean of its cell against exact", m2 / f1, se2))
+        print("  " + line("3D periodic against the 2D mean", k3 / m2, err / (k3 / m2)))
+        print("  " + line("3D periodic against exact", k3 / f1, d3["kappa_darcy_box_relative_error"]))
     return 0
 
 

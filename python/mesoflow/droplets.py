@@ -147,6 +147,9 @@ def obstacle_sweep(clog_test="full", **kw):
     if clog_test not in ("full", "early", "both"):
         raise ValueError("clog_test must be one of full, early, both, got %r" % (clog_test,))
     sweep.clog_test = getattr(ClogTest, clog_test)
+    if sweep.soft_particles and sweep.shape_dt_target > 0:
+        raise ValueError("shape_dt_target: needs the DP model (an SP droplet has no shape), got %r"
+                         % (sweep.shape_dt_target,))
     return sweep
 
 

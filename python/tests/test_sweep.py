@@ -60,3 +60,21 @@ def test_an_interrupted_sweep_resumes_without_losing_a_finished_replica(tmp_path
     # other parameters are refused
     with pytest.raises(ValueError, match="differs in time_limit"):
         droplets.clogging_sweep(**dict(SWEEP, time_limit=20.0), checkpoint=ckpt)
+
+
+def test_shape_following_steps_match_the_driver_and_are_checked(bin_dir, tmp_path):
+    """shape_dt_target is the driver's --shape-dt: the same records bit for bit; out of range or
+    with SP droplets it raises ValueError naming it."""
+    out = tmp_path / "shape.h5"
+    subprocess.run([os.path.join(bin_dir, "obstacles"), *DRIVER_FLAGS, "--shape-dt", "0.1", "--output", str(out)],
+                   check=True)
+    result = droplets.clogging_sweep(**SWEEP, shape_dt_target=0.1)
+    records = [r for point in result["records"] for r in point]
+    with h5py.File(out, "r") as f:
+        rep = f["results/replicas"]
+        for key in ("distance", "time", "steady_speed"):
+            assert np.array_equal(rep[key][()], [r[key] for r in records]), key
+    with pytest.raises(ValueError, match="shape time-step target"):
+        droplets.clogging_sweep(**dict(SWEEP, shape_dt_target=2.0))
+    with pytest.raises(ValueError, match="shape_dt_target"):
+        droplets.clogging_sweep(**dict(SWEEP, soft_particles=True, shape_dt_target=0.5))
