@@ -456,10 +456,10 @@ class ClogDetector {
   ClogTest test() const { return test_; }
   int steps_per_observation() const { return steps_per_observation_; }
 
- private:
   // The clocks of the running replicas whose step has changed since the last observation continue
   // from it at the new step: t_c, steps_c and the last step (T reached on the replica's own clock,
-  // rounded up to whole observations) from the time left.
+  // rounded up to whole observations) from the time left. Called by observe(); public because CUDA
+  // refuses an extended lambda in a private member function.
   void follow_steps() {
     const auto status = status_;
     const auto lim = limits_;
@@ -480,6 +480,7 @@ class ClogDetector {
         });
   }
 
+ private:
   Kokkos::View<int*, ExecSpace> status_;
   Kokkos::View<double* [2], ExecSpace> origin_;
   Kokkos::View<double* [4], ExecSpace> end_;  // r, t, x_com, y_com at the end

@@ -319,6 +319,21 @@ class DropletScene {
     throw ShapeTimeStepExceeded(m.str());
   }
 
+  // Δt_b = Δt_b0 / 2^k_b for every droplet, and every vertex's step from its droplet's (with
+  // shape-following steps; public because CUDA refuses an extended lambda in a private member).
+  void apply_time_step_levels() {
+    const auto dt0 = body_dt0_dev_, dt_now = body_dt_dev_;
+    const auto level = dt_level_;
+    mesoflow::launch::parallel_for(
+        "mesoflow::droplet_scene::body_time_steps", Kokkos::RangePolicy<ExecSpace>(0, polygons_.num_bodies()),
+        KOKKOS_LAMBDA(const int b) { dt_now(b) = dt0(b) / double(1 << level(b)); });
+    const auto pdt = particle_dt_;
+    const auto body = polygons_.body;
+    mesoflow::launch::parallel_for(
+        "mesoflow::droplet_scene::particle_time_steps", Kokkos::RangePolicy<ExecSpace>(0, polygons_.num_vertices()),
+        KOKKOS_LAMBDA(const int i) { pdt(i) = Real(dt_now(body(i))); });
+  }
+
   // The current step of every droplet (device; with a shape-following step the ensembles' clocks
   // read it, ClogDetector::follow_time_steps). Empty unless the batch is mixed.
   const Kokkos::View<double*, ExecSpace>& body_time_steps() const { return body_dt_dev_; }
@@ -837,19 +852,6 @@ class DropletScene {
     }
   }
 
-  // Δt_b = Δt_b0 / 2^k_b for every droplet, and every vertex's step from its droplet's.
-  void apply_time_step_levels() {
-    const auto dt0 = body_dt0_dev_, dt_now = body_dt_dev_;
-    const auto level = dt_level_;
-    mesoflow::launch::parallel_for(
-        "mesoflow::droplet_scene::body_time_steps", Kokkos::RangePolicy<ExecSpace>(0, polygons_.num_bodies()),
-        KOKKOS_LAMBDA(const int b) { dt_now(b) = dt0(b) / double(1 << level(b)); });
-    const auto pdt = particle_dt_;
-    const auto body = polygons_.body;
-    mesoflow::launch::parallel_for(
-        "mesoflow::droplet_scene::particle_time_steps", Kokkos::RangePolicy<ExecSpace>(0, polygons_.num_vertices()),
-        KOKKOS_LAMBDA(const int i) { pdt(i) = Real(dt_now(body(i))); });
-  }
 
   DropletParameters par_;  // droplet 0's (every shared field is everyone's)
   double dt_;               // the step (mixed: the largest droplet's; each droplet runs at body_dt_)
