@@ -24,6 +24,21 @@
 
 namespace mesoflow::dp {
 
+// Σ_i |∇_i a|² = ¼ Σ_i |r_{i+1} − r_{i−1}|² of body b (device code; offset: the bodies' first
+// vertices, x: positions).
+template <class Offset, class X>
+KOKKOS_INLINE_FUNCTION double body_area_gradient_squared(const Offset& offset, const X& x, int b) {
+  const int begin = offset(b), n = offset(b + 1) - begin;
+  double sum = 0;
+  for (int i = begin; i < begin + n; ++i) {
+    const int next = next_vertex(i, 1, begin, n), prev = prev_vertex(i, 1, begin, n);
+    const double dx = double(x(next, 0)) - double(x(prev, 0));
+    const double dy = double(x(next, 1)) - double(x(prev, 1));
+    sum += 0.25 * (dx * dx + dy * dy);
+  }
+  return sum;
+}
+
 namespace shape_stiffness_detail {
 struct Unweighted {
   KOKKOS_INLINE_FUNCTION double operator()(int) const { return 1.0; }
@@ -44,15 +59,7 @@ double largest_weighted(const Polygons<Real, ExecSpace>& polygons, const Particl
   mesoflow::launch::parallel_reduce(
       "mesoflow::dp::area_gradient_squared", Kokkos::RangePolicy<ExecSpace>(0, polygons.num_bodies()),
       KOKKOS_LAMBDA(const int b, double& largest) {
-        const int begin = offset(b), n = offset(b + 1) - begin;
-        double sum = 0;
-        for (int i = begin; i < begin + n; ++i) {
-          const int next = next_vertex(i, 1, begin, n), prev = prev_vertex(i, 1, begin, n);
-          const double dx = double(x(next, 0)) - double(x(prev, 0));
-          const double dy = double(x(next, 1)) - double(x(prev, 1));
-          sum += 0.25 * (dx * dx + dy * dy);
-        }
-        sum *= weight(b);
+        const double sum = body_area_gradient_squared(offset, x, b) * weight(b);
         if (sum > largest) largest = sum;
       },
       Kokkos::Max<double>(largest_sum));

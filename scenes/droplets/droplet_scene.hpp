@@ -289,14 +289,7 @@ class DropletScene {
     mesoflow::launch::parallel_reduce(
         "mesoflow::droplet_scene::adapt_time_steps", Kokkos::RangePolicy<ExecSpace>(0, polygons_.num_bodies()),
         KOKKOS_LAMBDA(const int b, double& largest) {
-          const int begin = offset(b), n = offset(b + 1) - begin;
-          double sum = 0;
-          for (int i = begin; i < begin + n; ++i) {
-            const int next = dp::next_vertex(i, 1, begin, n), prev = dp::prev_vertex(i, 1, begin, n);
-            const double dx = double(x(next, 0)) - double(x(prev, 0));
-            const double dy = double(x(next, 1)) - double(x(prev, 1));
-            sum += 0.25 * (dx * dx + dy * dy);
-          }
+          const double sum = dp::body_area_gradient_squared(offset, x, b);
           const double omega = kmath::sqrt(k_over_m * (sum > floor ? sum : floor));
           int k = level(b);
           while (k < deepest && omega * (dt0(b) / double(1 << k)) > target) ++k;
